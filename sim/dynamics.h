@@ -1,0 +1,30 @@
+// The force evaluation an integrator calls. Integrators know nothing else of
+// the system they advance: not which forces exist, not the scene.
+#pragma once
+
+#include "sim/force.h"
+#include "sim/vec3_array.h"
+
+#include <cstddef>
+
+namespace sim {
+
+class Dynamics {
+public:
+    virtual ~Dynamics() = default;
+
+    // a = M⁻¹ f(t, x, v) for the particles [first, first + x.n); a pinned
+    // particle (inverse mass 0) gets a = 0.
+    virtual void acceleration(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span a) = 0;
+
+    // f(t, x, v) and its Jacobians for the same block, for implicit methods.
+    // jac arrives empty; its indices are local to the block.
+    virtual void force_and_jacobians(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span f,
+                                     Jacobians& jac) = 0;
+
+    // Masses of the whole system, kg, and inverse masses, 1/kg (0 = pinned).
+    virtual const double* mass() const = 0;
+    virtual const double* inv_mass() const = 0;
+};
+
+}  // namespace sim

@@ -1,0 +1,61 @@
+// Every force generator in one closed set, and the Dynamics that sums them.
+// Adding a generator: its own file with the verbs listed in force.h, then one
+// entry in ForceDef.
+#pragma once
+
+#include "sim/dynamics.h"
+#include "sim/gravity.h"
+#include "sim/linear_drag.h"
+#include "sim/newton_gravity.h"
+#include "sim/quadratic_drag.h"
+#include "sim/spring.h"
+
+#include <cstdint>
+#include <variant>
+#include <vector>
+
+namespace sim {
+
+using ForceDef = std::variant<UniformGravity, NewtonGravity, Springs, LinearDrag, QuadraticDrag>;
+
+// The name scene files and messages use for a generator ("gravity", "springs", ...).
+const char* force_name(const ForceDef& force);
+
+// Sums a list of generators over a system of particles. Holds pointers to the
+// system's mass arrays and the generator list, which must outlive it.
+class ParticleForces final : public Dynamics {
+public:
+    ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
+                   const std::vector<double>& inv_mass);
+
+    // True when every generator is local, so that a step may run block by block.
+    bool all_local() const { return all_local_; }
+
+    void acceleration(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span a) override;
+    void force_and_jacobians(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span f,
+                             Jacobians& jac) override;
+    const double* mass() const override { return mass_->data(); }
+    const double* inv_mass() const override { return inv_mass_->data(); }
+
+    // Potential energy of every generator at (t, x, v), J.
+    double potential_energy(double t, ConstVec3Span x, ConstVec3Span v) const;
+
+    // Particle-evaluations of the force so far; divided by n it is the number
+    // of whole-system force evaluations (the machine-independent cost).
+    std::uint64_t particle_evaluations() const { return particle_evaluations_; }
+
+private:
+    ForceInput input(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v) const;
+    void sum_forces(const ForceInput& in, Vec3Span f) const;
+
+    const std::vector<ForceDef>* forces_;
+    const std::vector<double>* mass_;
+    const std::vector<double>* inv_mass_;
+    bool all_local_ = true;
+    std::uint64_t particle_evaluations_ = 0;
+};
+
+// Validates every generator against a system of particle_count particles.
+void validate_forces(const std::vector<ForceDef>& forces, std::size_t particle_count);
+
+}  // namespace sim

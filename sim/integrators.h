@@ -1,0 +1,93 @@
+// Time integrators for particles: one function each, pure over state arrays
+// and a force evaluation (Dynamics). Choosing one is a row of kIntegrators.
+//
+// Adding an integrator: write its step function in integrators.cpp (its
+// comment gives the update equations and the order), add its enumerator and
+// one row to kIntegrators, and one row to the accuracy tests' table in
+// tests/sim/integrators_test.cpp.
+#pragma once
+
+#include "sim/dynamics.h"
+#include "sim/vec3_array.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sim {
+
+enum class Integrator : std::uint8_t {
+    forward_euler,
+    symplectic_euler,
+    leapfrog,
+    velocity_verlet,
+    position_verlet,
+    rk4,
+    backward_euler,
+};
+
+inline constexpr std::size_t kMaxScratch = 9;  // temporary arrays the hungriest method (RK4) needs
+
+// The arrays one step works on: a block of particles [first, first + x.n).
+// The world hands out the whole system, or, when every force is local,
+// consecutive blocks small enough to stay in cache (same result, bit for bit).
+struct StepArrays {
+    std::size_t first = 0;  // global index of the block's first particle
+    Vec3Span x;             // position, m: advanced in place
+    Vec3Span v;             // velocity, m/s: advanced in place
+    // Integrator memory, carried from one step to the next while the method
+    // and h stay the same (memory_valid); otherwise rebuilt from (x, v).
+    Vec3Span a;             // acceleration at (x, v), m/s² (first-same-as-last methods)
+    Vec3Span x_prev;        // position one step back, m (Störmer-Verlet)
+    bool memory_valid = false;
+    std::array<Vec3Span, kMaxScratch> scratch;  // temporaries, contents undefined
+};
+
+// Advances the block from time t by one step h > 0.
+using StepFn = void (*)(Dynamics& dynamics, const StepArrays& s, double t, double h);
+
+struct IntegratorInfo {
+    Integrator id;
+    std::string_view name;       // as scene files and the command spell it
+    int order;                   // global order of convergence in position
+    int force_evaluations;       // per step, once memory is valid
+    std::size_t scratch_arrays;  // temporaries it needs (<= kMaxScratch)
+    bool needs_jacobians;        // implicit: solves a linear system each step
+    std::string_view summary;    // one line for `plausible list` and reports
+    StepFn step;
+};
+
+void forward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h);
+void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
+
+inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
+    {Integrator::forward_euler, "forward_euler", 1, 1, 0, false,
+     "explicit Euler: x += h v, v += h a; gains energy on oscillators", &forward_euler},
+    {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 0, false,
+     "semi-implicit Euler: v += h a, then x += h v; symplectic, the games default", &symplectic_euler},
+    {Integrator::leapfrog, "leapfrog", 2, 1, 0, false, "kick-drift-kick with half-step velocities; symplectic",
+     &leapfrog},
+    {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, false,
+     "velocity Verlet: x += h v + h²a/2, v += h (a + a')/2; symplectic", &velocity_verlet},
+    {Integrator::position_verlet, "position_verlet", 2, 1, 0, false,
+     "Störmer-Verlet: x' = 2x - x_prev + h²a, velocity from positions; symplectic", &position_verlet},
+    {Integrator::rk4, "rk4", 4, 4, 9, false, "classic fourth-order Runge-Kutta; the accuracy reference", &rk4},
+    {Integrator::backward_euler, "backward_euler", 1, 1, 1, true,
+     "implicit Euler, one Newton step on the linearised forces; stable for stiff springs, loses energy",
+     &backward_euler},
+}};
+
+const IntegratorInfo& integrator_info(Integrator id);
+std::optional<Integrator> integrator_from_name(std::string_view name);
+// "forward_euler, symplectic_euler, ..." for messages.
+std::string integrator_names();
+
+}  // namespace sim

@@ -1,0 +1,118 @@
+#include "sim/world.h"
+
+#include "sim/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace sim {
+
+void validate(const ParticleModel& model) {
+    validate_particles(model.particles);
+    validate_forces(model.forces, model.particles.size());
+}
+
+void validate(const StepSettings& settings) {
+    if (!(settings.dt > 0.0) || !std::isfinite(settings.dt)) {
+        throw InputError("dt must be > 0 and finite, in s (got " + format_value(settings.dt) + ")");
+    }
+    if (settings.substeps < 1) {
+        throw InputError("substeps must be >= 1 (got " + std::to_string(settings.substeps) + ")");
+    }
+}
+
+namespace {
+
+ParticleModel validated(ParticleModel model) {
+    validate(model);
+    return model;
+}
+
+}  // namespace
+
+World::World(ParticleModel model)
+    : model_(validated(std::move(model))),
+      state_(make_state(model_.particles)),
+      forces_(model_.forces, state_.mass, state_.inv_mass) {
+    const std::size_t n = state_.size();
+    memory_a_.resize(n);
+    memory_x_prev_.resize(n);
+    scratch_.resize(kMaxScratch);
+}
+
+ParticleState& World::edit_state() {
+    memory_valid_ = false;
+    return state_;
+}
+
+void World::step(const StepSettings& settings) {
+    validate(settings);
+    const double h = settings.dt / settings.substeps;
+    for (int i = 0; i < settings.substeps; ++i) {
+        step_once(settings.integrator, h);
+    }
+}
+
+void World::step_once(Integrator integrator, double h) {
+    const IntegratorInfo& info = integrator_info(integrator);
+    const std::size_t n = state_.size();
+    if (memory_integrator_ != integrator || memory_h_ != h) {
+        memory_valid_ = false;
+    }
+    // Scratch is allocated for the largest block the method will see.
+    const bool blocked = forces_.all_local();
+    const std::size_t block = blocked ? std::min(n, kBlock) : n;
+    for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
+        if (scratch_[i].size() < block) {
+            scratch_[i].resize(block);
+        }
+    }
+
+    StepArrays whole;
+    whole.x = state_.x.span();
+    whole.v = state_.v.span();
+    whole.a = memory_a_.span();
+    whole.x_prev = memory_x_prev_.span();
+    whole.memory_valid = memory_valid_;
+    for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
+        whole.scratch[i] = scratch_[i].span();
+    }
+
+    for (std::size_t first = 0; first < n; first += block) {
+        const std::size_t count = std::min(block, n - first);
+        StepArrays part = whole;
+        part.first = first;
+        part.x = whole.x.block(first, count);
+        part.v = whole.v.block(first, count);
+        part.a = whole.a.block(first, count);
+        part.x_prev = whole.x_prev.block(first, count);
+        info.step(forces_, part, state_.t, h);
+    }
+
+    state_.t += h;
+    memory_valid_ = true;
+    memory_integrator_ = integrator;
+    memory_h_ = h;
+    ++steps_;
+}
+
+double World::kinetic_energy() const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < state_.size(); ++i) {
+        if (state_.inv_mass[i] != 0.0) {
+            e += 0.5 * state_.mass[i] * state_.v.get(i).squaredNorm();
+        }
+    }
+    return e;
+}
+
+double World::potential_energy() const { return forces_.potential_energy(state_.t, state_.x.span(), state_.v.span()); }
+
+double World::force_evaluations() const {
+    return state_.size() == 0 ? 0.0
+                              : static_cast<double>(forces_.particle_evaluations()) / static_cast<double>(state_.size());
+}
+
+}  // namespace sim

@@ -1,0 +1,83 @@
+// sim::World: a particle system's description (ParticleModel, fixed) and its
+// state (ParticleState, stepped). A restart or a side-by-side comparison is
+// another World built from the same model.
+#pragma once
+
+#include "sim/forces.h"
+#include "sim/integrators.h"
+#include "sim/particles.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sim {
+
+// What a particle system is: its particles and the forces acting on them.
+struct ParticleModel {
+    std::vector<ParticleDef> particles;
+    std::vector<ForceDef> forces;
+};
+
+// Throws InputError for the first invalid particle or force.
+void validate(const ParticleModel& model);
+
+// How a frame advances: `substeps` steps of dt / substeps with one integrator.
+// Substeps belong to the step, not to the integrator.
+struct StepSettings {
+    Integrator integrator = Integrator::symplectic_euler;
+    double dt = 1.0 / 60.0;  // frame step, s (> 0 and finite)
+    int substeps = 1;        // steps per frame step (>= 1)
+};
+
+// Throws InputError when dt <= 0 or not finite, or substeps < 1.
+void validate(const StepSettings& settings);
+
+class World {
+public:
+    // Validates the model (InputError) and builds the state at t = 0.
+    explicit World(ParticleModel model);
+    // The force evaluation points into this object: not copyable or movable.
+    // Build another World from model() instead.
+    World(const World&) = delete;
+    World& operator=(const World&) = delete;
+
+    // Advances one frame step: settings.substeps integrator steps of
+    // settings.dt / settings.substeps. Throws InputError for bad settings.
+    void step(const StepSettings& settings);
+
+    const ParticleModel& model() const { return model_; }
+    const ParticleState& state() const { return state_; }
+    // Direct edits of x or v (a drag with the mouse, a teleport): the next step
+    // rebuilds the integrator's memory from the edited state.
+    ParticleState& edit_state();
+
+    double kinetic_energy() const;    // ½ Σ m v², J
+    double potential_energy() const;  // every force's potential, J
+    double energy() const { return kinetic_energy() + potential_energy(); }
+
+    // Whole-system force evaluations so far: the machine-independent cost.
+    double force_evaluations() const;
+    std::uint64_t steps() const { return steps_; }  // integrator steps (substeps count)
+
+    // Particles per block when every force is local (gravity, drag): the step
+    // then runs block by block, each block's arrays staying in cache.
+    static constexpr std::size_t kBlock = 512;
+
+private:
+    void step_once(Integrator integrator, double h);
+
+    ParticleModel model_;
+    ParticleState state_;
+    ParticleForces forces_;
+
+    // Integrator memory and scratch (see StepArrays).
+    Vec3Array memory_a_;
+    Vec3Array memory_x_prev_;
+    std::vector<Vec3Array> scratch_;
+    bool memory_valid_ = false;
+    Integrator memory_integrator_ = Integrator::symplectic_euler;
+    double memory_h_ = 0.0;
+    std::uint64_t steps_ = 0;
+};
+
+}  // namespace sim

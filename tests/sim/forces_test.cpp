@@ -1,0 +1,217 @@
+// Force generators: the lecture's spring formula, Newton's third law, safety
+// at zero length, potentials and Jacobians (checked by central differences),
+// and the refusal of bad parameters.
+#include "sim/error.h"
+#include "sim/forces.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+namespace sim {
+namespace {
+
+// A small system of n particles at scattered positions and velocities.
+struct Fixture {
+    Vec3Array x, v;
+    std::vector<double> mass, inv_mass;
+    explicit Fixture(std::size_t n) : x(n), v(n), mass(n), inv_mass(n) {
+        for (std::size_t i = 0; i < n; ++i) {
+            const double s = static_cast<double>(i);
+            x.set(i, Vec3(std::sin(1.3 * s + 0.2), std::cos(0.7 * s) * 1.5, 0.4 * s - 0.9));
+            v.set(i, Vec3(0.3 * std::cos(s), -0.2 * s, 0.5 * std::sin(2.0 * s)));
+            mass[i] = 0.5 + 0.25 * s;
+            inv_mass[i] = 1.0 / mass[i];
+        }
+    }
+    ForceInput input() const { return {0.0, 0, x.span(), v.span(), mass.data(), inv_mass.data()}; }
+};
+
+Vec3Array force_of(const ForceDef& def, const Fixture& fx) {
+    Vec3Array f(fx.x.size());
+    std::visit([&](const auto& g) { accumulate(g, fx.input(), f.span()); }, def);
+    return f;
+}
+
+TEST(Spring, ForceIsTheLectureFormula) {
+    // f_a = k (|p_b - p_a| - ℓ) (p_b - p_a) / |p_b - p_a|, f_b = -f_a
+    const Spring s{0, 1, 0.8, 250.0, 0.0};
+    const Vec3 pa(0.1, -0.3, 0.2), pb(1.2, 0.4, -0.5);
+    const Vec3 d = pb - pa;
+    const Vec3 expected = s.k * (d.norm() - s.rest) * d / d.norm();
+    const Vec3 f = spring_force(s, pa, pb, Vec3::Zero(), Vec3::Zero());
+    EXPECT_LT((f - expected).norm(), 1e-12) << "N";
+}
+
+TEST(Spring, DamperActsAlongTheSpring) {
+    const Spring s{0, 1, 1.0, 0.0, 3.0};  // pure damper, c = 3 N·s/m
+    const Vec3 pa(0, 0, 0), pb(2, 0, 0);
+    // b moves away along the spring at 0.5 m/s and sideways at 7 m/s:
+    // only the 0.5 m/s separation is damped, f_a = c · 0.5 along +x.
+    const Vec3 f = spring_force(s, pa, pb, Vec3::Zero(), Vec3(0.5, 7.0, 0.0));
+    EXPECT_LT((f - Vec3(1.5, 0.0, 0.0)).norm(), 1e-12) << "N";
+}
+
+TEST(Spring, NewtonsThirdLaw) {
+    Fixture fx(6);
+    Springs springs{{{0, 1, 0.5, 100, 2}, {1, 2, 1.0, 40, 0}, {2, 5, 0.2, 10, 1}, {3, 4, 2.0, 7, 0.5}, {0, 5, 0, 3, 0}}};
+    const Vec3Array f = force_of(springs, fx);
+    Vec3 total = Vec3::Zero();
+    for (std::size_t i = 0; i < 6; ++i) {
+        total += f.get(i);
+    }
+    EXPECT_LT(total.norm(), 1e-12) << "net internal force, N";
+    // and pair by pair
+    for (const Spring& s : springs.list) {
+        const Vec3 fa = spring_force(s, fx.x.get(s.i), fx.x.get(s.j), fx.v.get(s.i), fx.v.get(s.j));
+        const Vec3 fb = spring_force(s, fx.x.get(s.j), fx.x.get(s.i), fx.v.get(s.j), fx.v.get(s.i));
+        EXPECT_LT((fa + fb).norm(), 1e-12) << "N";
+    }
+}
+
+TEST(Spring, ZeroLengthGivesNoNaN) {
+    const Vec3 p(0.3, 0.3, 0.3);
+    for (double rest : {0.0, 1.0}) {
+        const Spring s{0, 1, rest, 100.0, 5.0};
+        const Vec3 f = spring_force(s, p, p, Vec3(1, 0, 0), Vec3(0, 2, 0));
+        EXPECT_TRUE(f.allFinite()) << "rest " << rest;
+        EXPECT_EQ(f, Vec3::Zero()) << "N, no direction to push along (rest " << rest << " m)";
+    }
+    // The Jacobian and energy at zero length are finite too.
+    Fixture fx(2);
+    fx.x.set(1, fx.x.get(0));
+    Springs springs{{{0, 1, 1.0, 100.0, 5.0}}};
+    Jacobians jac;
+    accumulate_jacobians(springs, fx.input(), jac);
+    for (const auto& e : jac.dfdx) {
+        EXPECT_TRUE(std::isfinite(e.value()));
+    }
+    EXPECT_DOUBLE_EQ(potential_energy(springs, fx.input()), 0.5 * 100.0 * 1.0);
+}
+
+TEST(Spring, PotentialIsHalfKStretchSquared) {
+    Fixture fx(2);
+    fx.x.set(0, Vec3::Zero());
+    fx.x.set(1, Vec3(0.0, 3.0, 4.0));  // length 5 m
+    Springs springs{{{0, 1, 2.0, 10.0, 0.0}}};
+    EXPECT_NEAR(potential_energy(springs, fx.input()), 0.5 * 10.0 * 9.0, 1e-12) << "J";
+}
+
+// f = -∇U: the potential's central difference matches the force.
+void expect_force_is_minus_gradient(const ForceDef& def, Fixture fx) {
+    const Vec3Array f = force_of(def, fx);
+    const double h = 1e-6;
+    for (std::size_t i = 0; i < fx.x.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const double x0 = fx.x.span().c[k][i];
+            fx.x.span().c[k][i] = x0 + h;
+            const double up = std::visit([&](const auto& g) { return potential_energy(g, fx.input()); }, def);
+            fx.x.span().c[k][i] = x0 - h;
+            const double down = std::visit([&](const auto& g) { return potential_energy(g, fx.input()); }, def);
+            fx.x.span().c[k][i] = x0;
+            EXPECT_NEAR(f.span().c[k][i], -(up - down) / (2 * h), 1e-5) << force_name(def) << " particle " << i
+                                                                        << " axis " << k << ", N";
+        }
+    }
+}
+
+TEST(Potentials, ForceIsMinusGradient) {
+    expect_force_is_minus_gradient(UniformGravity{}, Fixture(4));
+    expect_force_is_minus_gradient(Springs{{{0, 1, 0.5, 100, 0}, {1, 2, 1.0, 40, 0}, {0, 3, 0.0, 5, 0}}}, Fixture(4));
+    expect_force_is_minus_gradient(NewtonGravity{2.0, 0.1}, Fixture(4));
+    expect_force_is_minus_gradient(NewtonGravity{1.5, 0.0}, Fixture(3));
+}
+
+// The analytic Jacobians match central differences of the force.
+void expect_jacobians_match(const ForceDef& def, Fixture fx, double tol) {
+    const std::size_t n = fx.x.size();
+    Jacobians jac;
+    std::visit([&](const auto& g) { accumulate_jacobians(g, fx.input(), jac); }, def);
+    Eigen::SparseMatrix<double> dfdx(3 * n, 3 * n), dfdv(3 * n, 3 * n);
+    dfdx.setFromTriplets(jac.dfdx.begin(), jac.dfdx.end());
+    dfdv.setFromTriplets(jac.dfdv.begin(), jac.dfdv.end());
+    const double h = 1e-6;
+    for (Vec3Array* var : {&fx.x, &fx.v}) {
+        const Eigen::SparseMatrix<double>& analytic = (var == &fx.x) ? dfdx : dfdv;
+        for (std::size_t j = 0; j < n; ++j) {
+            for (int c = 0; c < 3; ++c) {
+                double& value = var->span().c[c][j];
+                const double saved = value;
+                value = saved + h;
+                const Vec3Array up = force_of(def, fx);
+                value = saved - h;
+                const Vec3Array down = force_of(def, fx);
+                value = saved;
+                for (std::size_t i = 0; i < n; ++i) {
+                    for (int r = 0; r < 3; ++r) {
+                        const double numeric = (up.span().c[r][i] - down.span().c[r][i]) / (2 * h);
+                        EXPECT_NEAR(analytic.coeff(3 * i + r, 3 * j + c), numeric, tol)
+                            << force_name(def) << (var == &fx.x ? " df/dx" : " df/dv") << " (" << i << "," << r
+                            << ") by (" << j << "," << c << ")";
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Jacobians, MatchCentralDifferences) {
+    // Springs all stretched (the clamped transverse term only differs under
+    // compression) and without damping (its ∂/∂x term is left out on purpose).
+    Fixture fx(3);
+    expect_jacobians_match(Springs{{{0, 1, 0.1, 100, 0}, {1, 2, 0.2, 40, 0}}}, fx, 1e-4);
+    expect_jacobians_match(Springs{{{0, 2, 0.0, 30, 0}}}, fx, 1e-4);
+    expect_jacobians_match(LinearDrag{0.7}, fx, 1e-6);
+    expect_jacobians_match(QuadraticDrag{0.3}, fx, 1e-6);
+    expect_jacobians_match(NewtonGravity{2.0, 0.05}, fx, 1e-4);
+    expect_jacobians_match(UniformGravity{}, fx, 1e-9);
+}
+
+TEST(Drag, OpposesVelocity) {
+    Fixture fx(3);
+    const Vec3Array lin = force_of(LinearDrag{0.5}, fx);
+    const Vec3Array quad = force_of(QuadraticDrag{0.2}, fx);
+    for (std::size_t i = 0; i < 3; ++i) {
+        const Vec3 v = fx.v.get(i);
+        EXPECT_LT((lin.get(i) + 0.5 * v).norm(), 1e-15) << "N";
+        EXPECT_LT((quad.get(i) + 0.2 * v.norm() * v).norm(), 1e-15) << "N";
+    }
+}
+
+TEST(NewtonGravity, InverseSquareLaw) {
+    Fixture fx(2);
+    fx.x.set(0, Vec3::Zero());
+    fx.x.set(1, Vec3(2.0, 0.0, 0.0));
+    fx.mass = {3.0, 5.0};
+    const Vec3Array f = force_of(NewtonGravity{1.0, 0.0}, fx);
+    EXPECT_NEAR(f.get(0).x(), 1.0 * 3.0 * 5.0 / 4.0, 1e-12) << "N, G m1 m2 / r²";
+    EXPECT_NEAR(f.get(1).x(), -1.0 * 3.0 * 5.0 / 4.0, 1e-12) << "N";
+}
+
+TEST(Validation, RefusesBadParameters) {
+    auto message_of = [](const ForceDef& def, std::size_t n) -> std::string {
+        try {
+            validate_forces({def}, n);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, -3.0, 0.0}}}, 2), "springs[0].k must be >= 0 and finite, in N/m (got -3)");
+    EXPECT_EQ(message_of(Springs{{{0, 0, 1.0, 3.0, 0.0}}}, 2), "springs[0] joins particle 0 to itself");
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, 3.0, 0.0}, {1, 7, 1.0, 3.0, 0.0}}}, 2),
+              "springs[1] joins particles 1 and 7, but there are only 2");
+    EXPECT_EQ(message_of(Springs{{{0, 1, -1.0, 3.0, 0.0}}}, 2), "springs[0].rest must be >= 0 and finite, in m (got -1)");
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, NAN, 0.0}}}, 2), "springs[0].k must be >= 0 and finite, in N/m (got nan)");
+    EXPECT_NE(message_of(Springs{{{0, 1, 1.0, 3.0, -1.0}}}, 2), "");
+    EXPECT_NE(message_of(LinearDrag{-0.1}, 1), "");
+    EXPECT_NE(message_of(QuadraticDrag{INFINITY}, 1), "");
+    EXPECT_NE(message_of(NewtonGravity{0.0, 0.0}, 1), "");
+    EXPECT_NE(message_of(NewtonGravity{1.0, -1.0}, 1), "");
+    EXPECT_NE(message_of(UniformGravity{Vec3(0, NAN, 0)}, 1), "");
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, 3.0, 0.0}}}, 2), "");
+}
+
+}  // namespace
+}  // namespace sim
