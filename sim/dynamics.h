@@ -9,9 +9,24 @@
 
 namespace sim {
 
+// A force that is, on every particle, f_i = m_i g - (c + c₂ |v_i|) v_i:
+// uniform gravity with linear and quadratic drag, the particle-effect case.
+struct UniformField {
+    Vec3 g = Vec3::Zero();  // m/s²
+    double c = 0.0;         // N·s/m
+    double c2 = 0.0;        // N·s²/m²
+};
+
 class Dynamics {
 public:
     virtual ~Dynamics() = default;
+
+    // The whole force as a UniformField, when it is one (else nullptr). The
+    // one-stage explicit methods then evaluate it inside their update loop, so
+    // a step is one pass over memory; they report those evaluations through
+    // count_evaluations.
+    virtual const UniformField* uniform_field() const { return nullptr; }
+    virtual void count_evaluations(std::size_t /*particles*/) {}
 
     // a = M⁻¹ f(t, x, v) for the particles [first, first + x.n); a pinned
     // particle (inverse mass 0) gets a = 0.

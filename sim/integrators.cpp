@@ -15,6 +15,7 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -54,6 +55,68 @@ void assign_sum(Vec3Span y, ConstVec3Span x, double alpha, ConstVec3Span z) {
     }
 }
 
+// The two Euler updates of one particle's component, given its acceleration.
+enum class Euler { forward, symplectic };
+
+template <Euler kKind>
+inline void euler_update(double& x, double& v, double a, double h) {
+    if constexpr (kKind == Euler::forward) {
+        x += h * v;  // old velocity
+        v += h * a;
+    } else {
+        v += h * a;
+        x += h * v;  // new velocity
+    }
+}
+
+// One pass over a block of a uniform field: a = (m g - (c + c₂|v|) v) / m and
+// the Euler update together, so no acceleration array is written or read.
+// Plain pointers and scalars only, so that the compiler sees every one of
+// them loop-invariant and vectorises; __restrict because the six coordinate
+// arrays and the two mass arrays never overlap.
+template <Euler kKind, bool kQuadratic>
+void euler_field_pass(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
+                      double* __restrict v1, double* __restrict v2, const double* __restrict mass,
+                      const double* __restrict inv_mass, std::size_t n, double gx, double gy, double gz, double c,
+                      double c2, double h) {
+    for (std::size_t i = 0; i < n; ++i) {
+        double drag = c;
+        if constexpr (kQuadratic) {
+            drag += c2 * std::sqrt(v0[i] * v0[i] + v1[i] * v1[i] + v2[i] * v2[i]);
+        }
+        const double ax = (mass[i] * gx - drag * v0[i]) * inv_mass[i];
+        const double ay = (mass[i] * gy - drag * v1[i]) * inv_mass[i];
+        const double az = (mass[i] * gz - drag * v2[i]) * inv_mass[i];
+        euler_update<kKind>(x0[i], v0[i], ax, h);
+        euler_update<kKind>(x1[i], v1[i], ay, h);
+        euler_update<kKind>(x2[i], v2[i], az, h);
+    }
+}
+
+template <Euler kKind>
+void euler_step(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    if (const UniformField* field = dynamics.uniform_field()) {
+        const double* m = dynamics.mass() + s.first;
+        const double* inv_m = dynamics.inv_mass() + s.first;
+        auto* pass = field->c2 != 0.0 ? &euler_field_pass<kKind, true> : &euler_field_pass<kKind, false>;
+        pass(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], m, inv_m, s.x.n, field->g.x(), field->g.y(),
+             field->g.z(), field->c, field->c2, h);
+        dynamics.count_evaluations(s.x.n);
+        return;
+    }
+    const Vec3Span a = s.scratch[0].block(0, s.x.n);
+    dynamics.acceleration(t, s.first, s.x, s.v, a);
+    const std::size_t n = s.x.n;
+    for (int k = 0; k < 3; ++k) {
+        double* xk = s.x.c[k];
+        double* vk = s.v.c[k];
+        const double* ak = a.c[k];
+        for (std::size_t i = 0; i < n; ++i) {
+            euler_update<kKind>(xk[i], vk[i], ak[i], h);
+        }
+    }
+}
+
 // Fills s.a with a(t, x, v) unless it still holds it from the last step.
 void ensure_acceleration(Dynamics& dynamics, const StepArrays& s, double t) {
     if (!s.memory_valid) {
@@ -71,9 +134,7 @@ void ensure_acceleration(Dynamics& dynamics, const StepArrays& s, double t) {
 // Position moves with the old velocity. On an undamped oscillator the energy
 // grows by a factor (1 + ω²h²) per step: the pendulum swings wider and wider.
 void forward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    dynamics.acceleration(t, s.first, s.x, s.v, s.a);
-    axpy(s.x, h, s.v);
-    axpy(s.v, h, s.a);
+    euler_step<Euler::forward>(dynamics, s, t, h);
 }
 
 // Symplectic (semi-implicit) Euler, order 1:
@@ -82,9 +143,7 @@ void forward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h) 
 // The same two lines with the order flipped: position moves with the new
 // velocity. Symplectic, so the energy of an oscillator stays in a band.
 void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    dynamics.acceleration(t, s.first, s.x, s.v, s.a);
-    axpy(s.v, h, s.a);
-    axpy(s.x, h, s.v);
+    euler_step<Euler::symplectic>(dynamics, s, t, h);
 }
 
 // 3. Verlet family -----------------------------------------------------------
@@ -136,12 +195,13 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
 // first after h or the method changed) starts from x_prev = x - h v + (h²/2) a,
 // the Taylor expansion backwards. Pinned particles keep x_prev = x.
 void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    dynamics.acceleration(t, s.first, s.x, s.v, s.a);
+    const Vec3Span a = s.scratch[0].block(0, s.x.n);
+    dynamics.acceleration(t, s.first, s.x, s.v, a);
     for (int k = 0; k < 3; ++k) {
         double* xk = s.x.c[k];
         double* vk = s.v.c[k];
         double* pk = s.x_prev.c[k];
-        const double* ak = s.a.c[k];
+        const double* ak = a.c[k];
         if (!s.memory_valid) {
             for (std::size_t i = 0; i < s.x.n; ++i) {
                 pk[i] = xk[i] - h * vk[i] + 0.5 * h * h * ak[i];

@@ -40,7 +40,7 @@ struct StepArrays {
     Vec3Span v;             // velocity, m/s: advanced in place
     // Integrator memory, carried from one step to the next while the method
     // and h stay the same (memory_valid); otherwise rebuilt from (x, v).
-    Vec3Span a;             // acceleration at (x, v), m/s² (first-same-as-last methods)
+    Vec3Span a;             // acceleration at (x, v), m/s² (first-same-as-last methods only)
     Vec3Span x_prev;        // position one step back, m (Störmer-Verlet)
     bool memory_valid = false;
     std::array<Vec3Span, kMaxScratch> scratch;  // temporaries, contents undefined
@@ -69,15 +69,15 @@ void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h);
 void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
 
 inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
-    {Integrator::forward_euler, "forward_euler", 1, 1, 0, false,
+    {Integrator::forward_euler, "forward_euler", 1, 1, 1, false,
      "explicit Euler: x += h v, v += h a; gains energy on oscillators", &forward_euler},
-    {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 0, false,
+    {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 1, false,
      "semi-implicit Euler: v += h a, then x += h v; symplectic, the games default", &symplectic_euler},
     {Integrator::leapfrog, "leapfrog", 2, 1, 0, false, "kick-drift-kick with half-step velocities; symplectic",
      &leapfrog},
     {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, false,
      "velocity Verlet: x += h v + h²a/2, v += h (a + a')/2; symplectic", &velocity_verlet},
-    {Integrator::position_verlet, "position_verlet", 2, 1, 0, false,
+    {Integrator::position_verlet, "position_verlet", 2, 1, 1, false,
      "Störmer-Verlet: x' = 2x - x_prev + h²a, velocity from positions; symplectic", &position_verlet},
     {Integrator::rk4, "rk4", 4, 4, 9, false, "classic fourth-order Runge-Kutta; the accuracy reference", &rk4},
     {Integrator::backward_euler, "backward_euler", 1, 1, 1, true,

@@ -61,7 +61,7 @@ public:
 
     // Particles per block when every force is local (gravity, drag): the step
     // then runs block by block, each block's arrays staying in cache.
-    static constexpr std::size_t kBlock = 512;
+    static constexpr std::size_t kBlock = 256;
 
 private:
     void step_once(Integrator integrator, double h);
