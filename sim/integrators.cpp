@@ -271,6 +271,8 @@ void explicit_runge_kutta(const ButcherTableau<S>& tableau, Dynamics& dynamics, 
 
 }  // namespace
 
+// Classic RK4, order 4: four force evaluations per step at t, t + h/2,
+// t + h/2, t + h; the accuracy reference (tableau kClassicRk4 above).
 void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     explicit_runge_kutta(kClassicRk4, dynamics, s, t, h);
 }
