@@ -5,6 +5,7 @@
 #include "sim/force.h"
 #include "sim/vec3_array.h"
 
+#include <cmath>
 #include <cstddef>
 
 namespace sim {
@@ -16,6 +17,23 @@ struct UniformField {
     double c = 0.0;         // N·s/m
     double c2 = 0.0;        // N·s²/m²
 };
+
+// The field's force on one particle of mass m moving at v, N: the one formula
+// every loop over a field calls. Plain scalars in and out, so that the loops
+// that inline it see nothing that could alias their arrays and vectorise.
+// kQuadratic: c2 may be non-zero (otherwise the square root is skipped).
+struct FieldForce {
+    double x, y, z;  // N
+};
+template <bool kQuadratic>
+inline FieldForce field_force(double m, double vx, double vy, double vz, double gx, double gy, double gz, double c,
+                              double c2) {
+    double drag = c;  // N·s/m along -v
+    if constexpr (kQuadratic) {
+        drag += c2 * std::sqrt(vx * vx + vy * vy + vz * vz);
+    }
+    return {m * gx - drag * vx, m * gy - drag * vy, m * gz - drag * vz};
+}
 
 class Dynamics {
 public:

@@ -1,7 +1,6 @@
 #include "sim/forces.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace sim {
 
@@ -58,33 +57,20 @@ namespace {
 
 // The field loop, compiled once per case so that neither the square root of
 // quadratic drag nor the inverse-mass multiply costs anything when unused.
+// Plain pointers and scalars only (a struct passed in makes GCC reload its
+// members every iteration and give up vectorising); __restrict because the
+// output never overlaps the velocity or mass arrays.
 template <bool kQuadratic, bool kToAcceleration>
-void field_loop(const ForceInput& in, Vec3Span out, const Vec3& g, double c, double c2) {
-    const double* vx = in.v.c[0];
-    const double* vy = in.v.c[1];
-    const double* vz = in.v.c[2];
-    const double* m = in.mass;
-    const double* inv_m = in.inv_mass;
-    double* ox = out.c[0];
-    double* oy = out.c[1];
-    double* oz = out.c[2];
-    const double gx = g.x(), gy = g.y(), gz = g.z();
-    for (std::size_t i = 0; i < out.n; ++i) {
-        double drag = c;
-        if constexpr (kQuadratic) {
-            drag += c2 * std::sqrt(vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i]);
-        }
-        double fx = m[i] * gx - drag * vx[i];
-        double fy = m[i] * gy - drag * vy[i];
-        double fz = m[i] * gz - drag * vz[i];
-        if constexpr (kToAcceleration) {
-            fx *= inv_m[i];
-            fy *= inv_m[i];
-            fz *= inv_m[i];
-        }
-        ox[i] = fx;
-        oy[i] = fy;
-        oz[i] = fz;
+void field_loop(const double* __restrict vx, const double* __restrict vy, const double* __restrict vz,
+                const double* __restrict m, const double* __restrict inv_m, double* __restrict ox,
+                double* __restrict oy, double* __restrict oz, std::size_t n, double gx, double gy, double gz, double c,
+                double c2) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const FieldForce f = field_force<kQuadratic>(m[i], vx[i], vy[i], vz[i], gx, gy, gz, c, c2);
+        const double scale = kToAcceleration ? inv_m[i] : 1.0;
+        ox[i] = f.x * scale;
+        oy[i] = f.y * scale;
+        oz[i] = f.z * scale;
     }
 }
 
@@ -92,15 +78,10 @@ void field_loop(const ForceInput& in, Vec3Span out, const Vec3& g, double c, dou
 
 void ParticleForces::field_pass(const ForceInput& in, Vec3Span out, bool to_acceleration) const {
     const bool quadratic = field_.c2 != 0.0;
-    if (quadratic && to_acceleration) {
-        field_loop<true, true>(in, out, field_.g, field_.c, field_.c2);
-    } else if (quadratic) {
-        field_loop<true, false>(in, out, field_.g, field_.c, field_.c2);
-    } else if (to_acceleration) {
-        field_loop<false, true>(in, out, field_.g, field_.c, field_.c2);
-    } else {
-        field_loop<false, false>(in, out, field_.g, field_.c, field_.c2);
-    }
+    auto* loop = quadratic ? (to_acceleration ? &field_loop<true, true> : &field_loop<true, false>)
+                           : (to_acceleration ? &field_loop<false, true> : &field_loop<false, false>);
+    loop(in.v.c[0], in.v.c[1], in.v.c[2], in.mass, in.inv_mass, out.c[0], out.c[1], out.c[2], out.n, field_.g.x(),
+         field_.g.y(), field_.g.z(), field_.c, field_.c2);
 }
 
 void ParticleForces::sum_forces(const ForceInput& in, Vec3Span f) const {

@@ -15,7 +15,6 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -69,8 +68,8 @@ inline void euler_update(double& x, double& v, double a, double h) {
     }
 }
 
-// One pass over a block of a uniform field: a = (m g - (c + c₂|v|) v) / m and
-// the Euler update together, so no acceleration array is written or read.
+// One pass over a block of a uniform field: a = field_force / m and the
+// Euler update together, so no acceleration array is written or read.
 // Plain pointers and scalars only, so that the compiler sees every one of
 // them loop-invariant and vectorises; __restrict because the six coordinate
 // arrays and the two mass arrays never overlap.
@@ -80,16 +79,10 @@ void euler_field_pass(double* __restrict x0, double* __restrict x1, double* __re
                       const double* __restrict inv_mass, std::size_t n, double gx, double gy, double gz, double c,
                       double c2, double h) {
     for (std::size_t i = 0; i < n; ++i) {
-        double drag = c;
-        if constexpr (kQuadratic) {
-            drag += c2 * std::sqrt(v0[i] * v0[i] + v1[i] * v1[i] + v2[i] * v2[i]);
-        }
-        const double ax = (mass[i] * gx - drag * v0[i]) * inv_mass[i];
-        const double ay = (mass[i] * gy - drag * v1[i]) * inv_mass[i];
-        const double az = (mass[i] * gz - drag * v2[i]) * inv_mass[i];
-        euler_update<kKind>(x0[i], v0[i], ax, h);
-        euler_update<kKind>(x1[i], v1[i], ay, h);
-        euler_update<kKind>(x2[i], v2[i], az, h);
+        const FieldForce f = field_force<kQuadratic>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, c2);
+        euler_update<kKind>(x0[i], v0[i], f.x * inv_mass[i], h);
+        euler_update<kKind>(x1[i], v1[i], f.y * inv_mass[i], h);
+        euler_update<kKind>(x2[i], v2[i], f.z * inv_mass[i], h);
     }
 }
 

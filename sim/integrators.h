@@ -29,6 +29,13 @@ enum class Integrator : std::uint8_t {
     backward_euler,
 };
 
+// What an integrator carries from one step to the next (in StepArrays).
+enum class Memory : std::uint8_t {
+    none,
+    acceleration,       // StepArrays::a, first-same-as-last methods
+    previous_position,  // StepArrays::x_prev, Störmer-Verlet
+};
+
 inline constexpr std::size_t kMaxScratch = 9;  // temporary arrays the hungriest method (RK4) needs
 
 // The arrays one step works on: a block of particles [first, first + x.n).
@@ -40,8 +47,8 @@ struct StepArrays {
     Vec3Span v;             // velocity, m/s: advanced in place
     // Integrator memory, carried from one step to the next while the method
     // and h stay the same (memory_valid); otherwise rebuilt from (x, v).
-    Vec3Span a;             // acceleration at (x, v), m/s² (first-same-as-last methods only)
-    Vec3Span x_prev;        // position one step back, m (Störmer-Verlet)
+    Vec3Span a;             // acceleration at (x, v), m/s² (Memory::acceleration only)
+    Vec3Span x_prev;        // position one step back, m (Memory::previous_position only)
     bool memory_valid = false;
     std::array<Vec3Span, kMaxScratch> scratch;  // temporaries, contents undefined
 };
@@ -55,6 +62,7 @@ struct IntegratorInfo {
     int order;                   // global order of convergence in position
     int force_evaluations;       // per step, once memory is valid
     std::size_t scratch_arrays;  // temporaries it needs (<= kMaxScratch)
+    Memory memory;               // state it keeps between steps (allocated only for it)
     bool needs_jacobians;        // implicit: solves a linear system each step
     std::string_view summary;    // one line for `plausible list` and reports
     StepFn step;
@@ -69,18 +77,18 @@ void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h);
 void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
 
 inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
-    {Integrator::forward_euler, "forward_euler", 1, 1, 1, false,
+    {Integrator::forward_euler, "forward_euler", 1, 1, 1, Memory::none, false,
      "explicit Euler: x += h v, v += h a; gains energy on oscillators", &forward_euler},
-    {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 1, false,
+    {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 1, Memory::none, false,
      "semi-implicit Euler: v += h a, then x += h v; symplectic, the games default", &symplectic_euler},
-    {Integrator::leapfrog, "leapfrog", 2, 1, 0, false, "kick-drift-kick with half-step velocities; symplectic",
+    {Integrator::leapfrog, "leapfrog", 2, 1, 0, Memory::acceleration, false, "kick-drift-kick with half-step velocities; symplectic",
      &leapfrog},
-    {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, false,
+    {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, Memory::acceleration, false,
      "velocity Verlet: x += h v + h²a/2, v += h (a + a')/2; symplectic", &velocity_verlet},
-    {Integrator::position_verlet, "position_verlet", 2, 1, 1, false,
+    {Integrator::position_verlet, "position_verlet", 2, 1, 1, Memory::previous_position, false,
      "Störmer-Verlet: x' = 2x - x_prev + h²a, velocity from positions; symplectic", &position_verlet},
-    {Integrator::rk4, "rk4", 4, 4, 9, false, "classic fourth-order Runge-Kutta; the accuracy reference", &rk4},
-    {Integrator::backward_euler, "backward_euler", 1, 1, 1, true,
+    {Integrator::rk4, "rk4", 4, 4, 9, Memory::none, false, "classic fourth-order Runge-Kutta; the accuracy reference", &rk4},
+    {Integrator::backward_euler, "backward_euler", 1, 1, 1, Memory::none, true,
      "implicit Euler, one Newton step on the linearised forces; stable for stiff springs, loses energy",
      &backward_euler},
 }};

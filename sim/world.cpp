@@ -36,9 +36,6 @@ World::World(ParticleModel model)
     : model_(validated(std::move(model))),
       state_(make_state(model_.particles)),
       forces_(model_.forces, state_.mass, state_.inv_mass) {
-    const std::size_t n = state_.size();
-    memory_a_.resize(n);
-    memory_x_prev_.resize(n);
     scratch_.resize(kMaxScratch);
 }
 
@@ -69,6 +66,13 @@ void World::step_once(Integrator integrator, double h) {
             scratch_[i].resize(block);
         }
     }
+    // Integrator memory is allocated the first time a method that keeps it runs.
+    Vec3Array* memory = info.memory == Memory::acceleration        ? &memory_a_
+                        : info.memory == Memory::previous_position ? &memory_x_prev_
+                                                                   : nullptr;
+    if (memory != nullptr && memory->size() != n) {
+        memory->resize(n);
+    }
 
     StepArrays whole;
     whole.x = state_.x.span();
@@ -86,8 +90,8 @@ void World::step_once(Integrator integrator, double h) {
         part.first = first;
         part.x = whole.x.block(first, count);
         part.v = whole.v.block(first, count);
-        part.a = whole.a.block(first, count);
-        part.x_prev = whole.x_prev.block(first, count);
+        part.a = info.memory == Memory::acceleration ? whole.a.block(first, count) : Vec3Span{};
+        part.x_prev = info.memory == Memory::previous_position ? whole.x_prev.block(first, count) : Vec3Span{};
         info.step(forces_, part, state_.t, h);
     }
 

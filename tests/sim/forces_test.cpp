@@ -179,6 +179,34 @@ TEST(Drag, OpposesVelocity) {
     }
 }
 
+TEST(ParticleForces, UniformFieldEqualsTheGeneratorsItSums) {
+    // Gravity and drag run as one fused field; the generators' own
+    // accumulate() stays the definition. Both must give the same force (to
+    // round-off: the field sums the coefficients before multiplying).
+    Fixture fx(7);
+    fx.inv_mass[3] = 0.0;  // a pinned particle gets no acceleration
+    const std::vector<ForceDef> forces = {UniformGravity{Vec3(0.0, -9.81, 0.0)}, LinearDrag{0.3},
+                                          QuadraticDrag{0.05}, UniformGravity{Vec3(0.5, 0.0, -0.2)},
+                                          LinearDrag{0.1}};
+    ParticleForces summed(forces, fx.mass, fx.inv_mass);
+    ASSERT_NE(summed.uniform_field(), nullptr);
+    Vec3Array a(7);
+    summed.acceleration(0.0, 0, fx.x.span(), fx.v.span(), a.span());
+    for (std::size_t i = 0; i < 7; ++i) {
+        Vec3 f = Vec3::Zero();
+        for (const ForceDef& def : forces) {
+            f += force_of(def, fx).get(i);
+        }
+        EXPECT_LT((a.get(i) - f * fx.inv_mass[i]).norm(), 1e-14 * (1.0 + f.norm())) << "m/s², particle " << i;
+    }
+    EXPECT_EQ(a.get(3), Vec3::Zero());
+
+    // With a coupled force beside it the field is no longer the whole force.
+    std::vector<ForceDef> with_spring = forces;
+    with_spring.push_back(Springs{{{0, 1, 0.5, 10.0, 0.0}}});
+    EXPECT_EQ(ParticleForces(with_spring, fx.mass, fx.inv_mass).uniform_field(), nullptr);
+}
+
 TEST(NewtonGravity, InverseSquareLaw) {
     Fixture fx(2);
     fx.x.set(0, Vec3::Zero());
