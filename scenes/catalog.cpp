@@ -44,8 +44,7 @@ Scene oscillator() {
     scene.model.forces.push_back(sim::Springs{{{0, 1, 0.0, o.stiffness, o.damping}}});
     scene.step = {sim::Integrator::symplectic_euler, 1.0 / 60.0, 1};
     scene.frames = 600;
-    scene.reference =
-        Reference{1, [=](double t) { return sim::analytic::oscillator(o, x0, sim::Vec3::Zero(), t); }};
+    scene.reference = Reference{1, [=](double t) { return sim::analytic::oscillator(o, x0, sim::Vec3::Zero(), t); }};
     return scene;
 }
 

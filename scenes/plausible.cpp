@@ -116,24 +116,25 @@ int run(const RunOptions& options) {
         out << "{\"scene\":\"" << info->name << "\",\"integrator\":\"" << integrator
             << "\",\"dt\":" << json_number(scene.step.dt) << ",\"substeps\":" << scene.step.substeps
             << ",\"steps\":" << world.steps() << ",\"sim_time\":" << json_number(s.t)
-            << ",\"systems\":[\"particles\"],\"state_hash\":\"" << hash << "\",\"energy\":{\"initial\":"
-            << json_number(energy.initial) << ",\"final\":" << json_number(energy.final)
-            << ",\"min\":" << json_number(energy.min) << ",\"max\":" << json_number(energy.max) << "},\"verdict\":";
+            << ",\"systems\":[\"particles\"],\"state_hash\":\"" << hash
+            << "\",\"energy\":{\"initial\":" << json_number(energy.initial)
+            << ",\"final\":" << json_number(energy.final) << ",\"min\":" << json_number(energy.min)
+            << ",\"max\":" << json_number(energy.max) << "},\"verdict\":";
         if (exploded_at < 0) {
             out << "{\"status\":\"ok\"}";
         } else {
             out << "{\"status\":\"exploded\",\"frame\":" << exploded_at << ",\"quantity\":\"non-finite state\"}";
         }
-        out << ",\"ms_per_step\":{\"particles\":" << json_number(ms_per_step) << ",\"total\":" << json_number(ms_per_step)
-            << "}";
+        out << ",\"ms_per_step\":{\"particles\":" << json_number(ms_per_step)
+            << ",\"total\":" << json_number(ms_per_step) << "}";
         if (position_error) out << ",\"position_error\":" << json_number(*position_error);
         out << ",\"force_evaluations\":" << json_number(world.force_evaluations()) << "}\n";
         std::cout << out.str();
     } else {
         std::printf("%s: %d frames of %s, dt %.6g s x %d substeps, t = %.4g s\n", std::string(info->name).c_str(),
                     scene.frames, integrator.c_str(), scene.step.dt, scene.step.substeps, s.t);
-        const double drift = energy.initial != 0.0 ? 100.0 * (energy.final - energy.initial) / std::abs(energy.initial)
-                                                   : 0.0;
+        const double drift =
+            energy.initial != 0.0 ? 100.0 * (energy.final - energy.initial) / std::abs(energy.initial) : 0.0;
         std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", energy.initial,
                     energy.final, drift, energy.min, energy.max);
         if (position_error) {

@@ -26,10 +26,10 @@ namespace sim {
 // system. Coupled (non-local) generators are only ever given the whole system
 // (first = 0).
 struct ForceInput {
-    double t = 0.0;            // s
-    std::size_t first = 0;     // global index of the block's first particle
-    ConstVec3Span x;           // position, m
-    ConstVec3Span v;           // velocity, m/s
+    double t = 0.0;                    // s
+    std::size_t first = 0;             // global index of the block's first particle
+    ConstVec3Span x;                   // position, m
+    ConstVec3Span v;                   // velocity, m/s
     const double* mass = nullptr;      // (block) kg
     const double* inv_mass = nullptr;  // (block) 1/kg, 0 = pinned
 };
@@ -41,8 +41,7 @@ struct Jacobians {
     std::vector<Eigen::Triplet<double>> dfdv;  // N·s/m
 
     // Adds the 3x3 block m at (particle i, particle j).
-    static void add(std::vector<Eigen::Triplet<double>>& list, std::size_t i, std::size_t j,
-                    const Eigen::Matrix3d& m) {
+    static void add(std::vector<Eigen::Triplet<double>>& list, std::size_t i, std::size_t j, const Eigen::Matrix3d& m) {
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 3; ++c) {
                 if (m(r, c) != 0.0) {

@@ -47,8 +47,8 @@ struct StepArrays {
     Vec3Span v;             // velocity, m/s: advanced in place
     // Integrator memory, carried from one step to the next while the method
     // and h stay the same (memory_valid); otherwise rebuilt from (x, v).
-    Vec3Span a;             // acceleration at (x, v), m/s² (Memory::acceleration only)
-    Vec3Span x_prev;        // position one step back, m (Memory::previous_position only)
+    Vec3Span a;       // acceleration at (x, v), m/s² (Memory::acceleration only)
+    Vec3Span x_prev;  // position one step back, m (Memory::previous_position only)
     bool memory_valid = false;
     std::array<Vec3Span, kMaxScratch> scratch;  // temporaries, contents undefined
 };
@@ -81,13 +81,14 @@ inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
      "explicit Euler: x += h v, v += h a; gains energy on oscillators", &forward_euler},
     {Integrator::symplectic_euler, "symplectic_euler", 1, 1, 1, Memory::none, false,
      "semi-implicit Euler: v += h a, then x += h v; symplectic, the games default", &symplectic_euler},
-    {Integrator::leapfrog, "leapfrog", 2, 1, 0, Memory::acceleration, false, "kick-drift-kick with half-step velocities; symplectic",
-     &leapfrog},
+    {Integrator::leapfrog, "leapfrog", 2, 1, 0, Memory::acceleration, false,
+     "kick-drift-kick with half-step velocities; symplectic", &leapfrog},
     {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, Memory::acceleration, false,
      "velocity Verlet: x += h v + h²a/2, v += h (a + a')/2; symplectic", &velocity_verlet},
     {Integrator::position_verlet, "position_verlet", 2, 1, 1, Memory::previous_position, false,
      "Störmer-Verlet: x' = 2x - x_prev + h²a, velocity from positions; symplectic", &position_verlet},
-    {Integrator::rk4, "rk4", 4, 4, 9, Memory::none, false, "classic fourth-order Runge-Kutta; the accuracy reference", &rk4},
+    {Integrator::rk4, "rk4", 4, 4, 9, Memory::none, false, "classic fourth-order Runge-Kutta; the accuracy reference",
+     &rk4},
     {Integrator::backward_euler, "backward_euler", 1, 1, 1, Memory::none, true,
      "implicit Euler, one Newton step on the linearised forces; stable for stiff springs, loses energy",
      &backward_euler},

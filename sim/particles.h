@@ -20,11 +20,11 @@ struct ParticleDef {
 // The mutable state of n particles. Everything here is plain arrays indexed by
 // particle; nothing points at anything.
 struct ParticleState {
-    double t = 0.0;                 // simulated time, s
-    Vec3Array x;                    // position (n x 3), m
-    Vec3Array v;                    // velocity (n x 3), m/s
-    std::vector<double> mass;       // (n), kg
-    std::vector<double> inv_mass;   // (n), 1/kg; 0 means pinned
+    double t = 0.0;                // simulated time, s
+    Vec3Array x;                   // position (n x 3), m
+    Vec3Array v;                   // velocity (n x 3), m/s
+    std::vector<double> mass;      // (n), kg
+    std::vector<double> inv_mass;  // (n), 1/kg; 0 means pinned
 
     std::size_t size() const { return mass.size(); }
 };

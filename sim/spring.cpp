@@ -71,7 +71,7 @@ void accumulate_jacobians(const Springs& springs, const ForceInput& in, Jacobian
     for (const Spring& s : springs.list) {
         const Vec3 d = in.x.get(s.j) - in.x.get(s.i);
         const double length = d.norm();
-        Eigen::Matrix3d kx;  // ∂f_i/∂x_j
+        Eigen::Matrix3d kx;                            // ∂f_i/∂x_j
         Eigen::Matrix3d kv = Eigen::Matrix3d::Zero();  // ∂f_i/∂v_j
         if (length == 0.0) {
             kx = s.rest == 0.0 ? Eigen::Matrix3d(s.k * identity) : Eigen::Matrix3d::Zero();

@@ -26,20 +26,16 @@ struct Vec3View {
     Vec3View(T* x, T* y, T* z, std::size_t count) : c{x, y, z}, n(count) {}
     // A writable view converts to a read-only one.
     template <class U>
-        requires(std::is_const_v<T> && std::is_same_v<std::remove_const_t<T>, U>)
-    Vec3View(const Vec3View<U>& other) : c{other.c[0], other.c[1], other.c[2]}, n(other.n) {}
+    requires(std::is_const_v<T>&& std::is_same_v<std::remove_const_t<T>, U>) Vec3View(const Vec3View<U>& other)
+        : c{other.c[0], other.c[1], other.c[2]}, n(other.n) {}
 
     Vec3 get(std::size_t i) const { return {c[0][i], c[1][i], c[2][i]}; }
-    void set(std::size_t i, const Vec3& p) const
-        requires(!std::is_const_v<T>)
-    {
+    void set(std::size_t i, const Vec3& p) const requires(!std::is_const_v<T>) {
         c[0][i] = p.x();
         c[1][i] = p.y();
         c[2][i] = p.z();
     }
-    void add(std::size_t i, const Vec3& p) const
-        requires(!std::is_const_v<T>)
-    {
+    void add(std::size_t i, const Vec3& p) const requires(!std::is_const_v<T>) {
         c[0][i] += p.x();
         c[1][i] += p.y();
         c[2][i] += p.z();
@@ -67,9 +63,7 @@ public:
     }
 
     Vec3Span span() { return {data_.data(), data_.data() + n_, data_.data() + 2 * n_, n_}; }
-    ConstVec3Span span() const {
-        return {data_.data(), data_.data() + n_, data_.data() + 2 * n_, n_};
-    }
+    ConstVec3Span span() const { return {data_.data(), data_.data() + n_, data_.data() + 2 * n_, n_}; }
 
     Vec3 get(std::size_t i) const { return span().get(i); }
     void set(std::size_t i, const Vec3& p) { span().set(i, p); }

@@ -115,8 +115,9 @@ double World::kinetic_energy() const {
 double World::potential_energy() const { return forces_.potential_energy(state_.t, state_.x.span(), state_.v.span()); }
 
 double World::force_evaluations() const {
-    return state_.size() == 0 ? 0.0
-                              : static_cast<double>(forces_.particle_evaluations()) / static_cast<double>(state_.size());
+    return state_.size() == 0
+               ? 0.0
+               : static_cast<double>(forces_.particle_evaluations()) / static_cast<double>(state_.size());
 }
 
 }  // namespace sim

@@ -13,9 +13,9 @@
 
 namespace {
 
-constexpr double kDt = 1.0 / 60.0;     // s
-constexpr double kDrag = 0.05;         // N·s/m
-constexpr double kGravity = -9.81;     // m/s²
+constexpr double kDt = 1.0 / 60.0;  // s
+constexpr double kDrag = 0.05;      // N·s/m
+constexpr double kGravity = -9.81;  // m/s²
 
 sim::ParticleModel cloud(std::size_t n) {
     sim::ParticleModel model;

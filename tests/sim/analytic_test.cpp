@@ -3,8 +3,8 @@
 // independently right.
 #include "sim/analytic.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <numbers>
@@ -75,9 +75,7 @@ TEST(Kepler, ReturnsAfterOnePeriodAndSolvesTheEquation) {
     }
 }
 
-TEST(Kepler, RefusesUnboundOrbits) {
-    EXPECT_THROW(kepler(1.0, Vec3(1, 0, 0), Vec3(0, 2, 0), 1.0), std::domain_error);
-}
+TEST(Kepler, RefusesUnboundOrbits) { EXPECT_THROW(kepler(1.0, Vec3(1, 0, 0), Vec3(0, 2, 0), 1.0), std::domain_error); }
 
 TEST(Pendulum, SmallAngleAndExactPeriodAgreeForSmallAmplitude) {
     const double length = 2.0, g = 9.81;
@@ -87,10 +85,10 @@ TEST(Pendulum, SmallAngleAndExactPeriodAgreeForSmallAmplitude) {
     // T(θ0) = T0 (1 + θ0²/16 + 11 θ0⁴/3072 + 173 θ0⁶/737280 + O(θ0⁸)); the
     // next term is 4e-11 s here
     const double theta0 = 0.2;
-    EXPECT_NEAR(pendulum_period(length, g, theta0),
-                t_small * (1 + theta0 * theta0 / 16 + 11 * std::pow(theta0, 4) / 3072 +
-                           173 * std::pow(theta0, 6) / 737280),
-                1e-9)
+    EXPECT_NEAR(
+        pendulum_period(length, g, theta0),
+        t_small * (1 + theta0 * theta0 / 16 + 11 * std::pow(theta0, 4) / 3072 + 173 * std::pow(theta0, 6) / 737280),
+        1e-9)
         << "s";
     // A pendulum released horizontally: T = 1.18034 T0 (tabulated K(1/√2) = 1.854075)
     EXPECT_NEAR(pendulum_period(length, g, std::numbers::pi / 2) / t_small, 2 * 1.8540746773013719 / std::numbers::pi,

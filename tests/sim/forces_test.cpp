@@ -1,8 +1,8 @@
 // Force generators: the lecture's spring formula, Newton's third law, safety
 // at zero length, potentials and Jacobians (checked by central differences),
 // and the refusal of bad parameters.
-#include "sim/error.h"
 #include "sim/forces.h"
+#include "sim/error.h"
 
 #include <gtest/gtest.h>
 
@@ -55,7 +55,8 @@ TEST(Spring, DamperActsAlongTheSpring) {
 
 TEST(Spring, NewtonsThirdLaw) {
     Fixture fx(6);
-    Springs springs{{{0, 1, 0.5, 100, 2}, {1, 2, 1.0, 40, 0}, {2, 5, 0.2, 10, 1}, {3, 4, 2.0, 7, 0.5}, {0, 5, 0, 3, 0}}};
+    Springs springs{
+        {{0, 1, 0.5, 100, 2}, {1, 2, 1.0, 40, 0}, {2, 5, 0.2, 10, 1}, {3, 4, 2.0, 7, 0.5}, {0, 5, 0, 3, 0}}};
     const Vec3Array f = force_of(springs, fx);
     Vec3 total = Vec3::Zero();
     for (std::size_t i = 0; i < 6; ++i) {
@@ -110,8 +111,8 @@ void expect_force_is_minus_gradient(const ForceDef& def, Fixture fx) {
             fx.x.span().c[k][i] = x0 - h;
             const double down = std::visit([&](const auto& g) { return potential_energy(g, fx.input()); }, def);
             fx.x.span().c[k][i] = x0;
-            EXPECT_NEAR(f.span().c[k][i], -(up - down) / (2 * h), 1e-5) << force_name(def) << " particle " << i
-                                                                        << " axis " << k << ", N";
+            EXPECT_NEAR(f.span().c[k][i], -(up - down) / (2 * h), 1e-5)
+                << force_name(def) << " particle " << i << " axis " << k << ", N";
         }
     }
 }
@@ -185,9 +186,8 @@ TEST(ParticleForces, UniformFieldEqualsTheGeneratorsItSums) {
     // round-off: the field sums the coefficients before multiplying).
     Fixture fx(7);
     fx.inv_mass[3] = 0.0;  // a pinned particle gets no acceleration
-    const std::vector<ForceDef> forces = {UniformGravity{Vec3(0.0, -9.81, 0.0)}, LinearDrag{0.3},
-                                          QuadraticDrag{0.05}, UniformGravity{Vec3(0.5, 0.0, -0.2)},
-                                          LinearDrag{0.1}};
+    const std::vector<ForceDef> forces = {UniformGravity{Vec3(0.0, -9.81, 0.0)}, LinearDrag{0.3}, QuadraticDrag{0.05},
+                                          UniformGravity{Vec3(0.5, 0.0, -0.2)}, LinearDrag{0.1}};
     ParticleForces summed(forces, fx.mass, fx.inv_mass);
     ASSERT_NE(summed.uniform_field(), nullptr);
     Vec3Array a(7);
@@ -226,12 +226,15 @@ TEST(Validation, RefusesBadParameters) {
         }
         return "";
     };
-    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, -3.0, 0.0}}}, 2), "springs[0].k must be >= 0 and finite, in N/m (got -3)");
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, -3.0, 0.0}}}, 2),
+              "springs[0].k must be >= 0 and finite, in N/m (got -3)");
     EXPECT_EQ(message_of(Springs{{{0, 0, 1.0, 3.0, 0.0}}}, 2), "springs[0] joins particle 0 to itself");
     EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, 3.0, 0.0}, {1, 7, 1.0, 3.0, 0.0}}}, 2),
               "springs[1] joins particles 1 and 7, but there are only 2");
-    EXPECT_EQ(message_of(Springs{{{0, 1, -1.0, 3.0, 0.0}}}, 2), "springs[0].rest must be >= 0 and finite, in m (got -1)");
-    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, NAN, 0.0}}}, 2), "springs[0].k must be >= 0 and finite, in N/m (got nan)");
+    EXPECT_EQ(message_of(Springs{{{0, 1, -1.0, 3.0, 0.0}}}, 2),
+              "springs[0].rest must be >= 0 and finite, in m (got -1)");
+    EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, NAN, 0.0}}}, 2),
+              "springs[0].k must be >= 0 and finite, in N/m (got nan)");
     EXPECT_NE(message_of(Springs{{{0, 1, 1.0, 3.0, -1.0}}}, 2), "");
     EXPECT_NE(message_of(LinearDrag{-0.1}, 1), "");
     EXPECT_NE(message_of(QuadraticDrag{INFINITY}, 1), "");

@@ -19,9 +19,9 @@ namespace sim::test {
 namespace {
 
 const analytic::Oscillator kOscillator{1.0, 1.0, 0.0};  // m = 1 kg, k = 1 N/m: ω = 1 rad/s
-const Vec3 kOscX0{1.0, 0.0, 0.0};                          // m
-const Vec3 kOscV0{0.0, 0.5, 0.0};                          // m/s: an ellipse in the xy plane
-constexpr double kOscEnd = 10.0;                           // s
+const Vec3 kOscX0{1.0, 0.0, 0.0};                       // m
+const Vec3 kOscV0{0.0, 0.5, 0.0};                       // m/s: an ellipse in the xy plane
+constexpr double kOscEnd = 10.0;                        // s
 constexpr double kKeplerE = 0.5;
 constexpr double kKeplerEnd = 5.0;  // s, 0.8 of the 2π s period (not a symmetric point of the orbit)
 
@@ -135,8 +135,8 @@ struct OrderCase {
 };
 
 const std::vector<OrderCase> kOrderCases = {
-    {Integrator::forward_euler, 0.01, 2.5e-3},  {Integrator::symplectic_euler, 0.01, 2.5e-3},
-    {Integrator::leapfrog, 0.05, 0.0125},       {Integrator::velocity_verlet, 0.05, 0.0125},
+    {Integrator::forward_euler, 0.01, 2.5e-3},   {Integrator::symplectic_euler, 0.01, 2.5e-3},
+    {Integrator::leapfrog, 0.05, 0.0125},        {Integrator::velocity_verlet, 0.05, 0.0125},
     {Integrator::position_verlet, 0.05, 0.0125}, {Integrator::rk4, 0.2, 0.05},
     {Integrator::backward_euler, 0.01, 2.5e-3},
 };

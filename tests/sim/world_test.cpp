@@ -1,7 +1,7 @@
 // sim::World: validation of the description and of the step, substeps,
 // block-by-block stepping, energy.
-#include "sim/error.h"
 #include "sim/world.h"
+#include "sim/error.h"
 #include "tests/sim/problems.h"
 
 #include <gtest/gtest.h>
@@ -40,10 +40,14 @@ TEST(Validation, RefusesBadSteps) {
     World world(ballistic_model());
     const Vec3 before = world.state().x.get(0);
     EXPECT_EQ(error_of([&] { world.step({Integrator::rk4, 0.0, 1}); }), "dt must be > 0 and finite, in s (got 0)");
-    EXPECT_EQ(error_of([&] { world.step({Integrator::rk4, -0.01, 1}); }),
+    EXPECT_EQ(error_of([&] {
+                  world.step({Integrator::rk4, -0.01, 1});
+              }),
               "dt must be > 0 and finite, in s (got -0.01)");
     EXPECT_EQ(error_of([&] { world.step({Integrator::rk4, NAN, 1}); }), "dt must be > 0 and finite, in s (got nan)");
-    EXPECT_EQ(error_of([&] { world.step({Integrator::rk4, INFINITY, 1}); }),
+    EXPECT_EQ(error_of([&] {
+                  world.step({Integrator::rk4, INFINITY, 1});
+              }),
               "dt must be > 0 and finite, in s (got inf)");
     EXPECT_EQ(error_of([&] { world.step({Integrator::rk4, 0.01, 0}); }), "substeps must be >= 1 (got 0)");
     EXPECT_EQ(world.state().x.get(0), before) << "a refused step changes nothing";
