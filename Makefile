@@ -36,6 +36,7 @@ demo: build
 
 bench: build
 	build/bench_sim --benchmark_counters_tabular=true
+	build/bench_render --benchmark_counters_tabular=true
 
 test-sanitize: deps
 	cmake --preset sanitize >/dev/null

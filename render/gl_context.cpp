@@ -1,0 +1,122 @@
+// The backend-independent half of the GL contexts: names, the fingerprint,
+// loading the glad function table, and choosing a backend.
+#include "render/gl_context.h"
+
+#include "render/gl_context_backends.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <thread>
+
+namespace render {
+
+std::string_view backend_name(Backend backend) {
+    switch (backend) {
+        case Backend::osmesa: return "osmesa";
+        case Backend::egl: return "egl";
+        case Backend::glfw: return "glfw";
+    }
+    return "?";
+}
+
+std::optional<Backend> backend_from_name(std::string_view name) {
+    for (Backend b : {Backend::osmesa, Backend::egl, Backend::glfw}) {
+        if (backend_name(b) == name) return b;
+    }
+    return std::nullopt;
+}
+
+std::string Fingerprint::summary() const {
+    return backend + " | " + renderer + " | GL " + version + " | " + cpu_simd + " | " + std::to_string(gl_threads) +
+           " threads";
+}
+
+namespace {
+
+// llvmpipe compiles shaders for the SIMD width this CPU offers (LLVM picks
+// AVX2 or AVX-512 when present), so the CPU's extensions belong in the record
+// of what made a golden image.
+std::string cpu_simd_flags() {
+    std::string flags;
+    auto add = [&](bool has, const char* name) {
+        if (!has) return;
+        if (!flags.empty()) flags += ' ';
+        flags += name;
+    };
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_cpu_init();
+    add(__builtin_cpu_supports("sse4.2"), "sse4.2");
+    add(__builtin_cpu_supports("avx"), "avx");
+    add(__builtin_cpu_supports("avx2"), "avx2");
+    add(__builtin_cpu_supports("fma"), "fma");
+    add(__builtin_cpu_supports("avx512f"), "avx512f");
+#else
+    add(true, "non-x86");
+#endif
+    return flags.empty() ? "none" : flags;
+}
+
+std::string gl_string(const GladGLContext& gl, GLenum name) {
+    const auto* text = reinterpret_cast<const char*>(gl.GetString(name));
+    return text != nullptr ? text : "";
+}
+
+}  // namespace
+
+GlContext::GlContext(Backend backend) : backend_(backend) {}
+
+GlContext::~GlContext() = default;
+
+void GlContext::load_functions(GlProcLoader loader) {
+    gl_ = std::make_unique<GladGLContext>();
+    const int version = gladLoadGLContext(gl_.get(), reinterpret_cast<GLADloadfunc>(loader));
+    if (version == 0) {
+        throw RenderError(ErrorKind::unavailable,
+                          std::string(backend_name(backend_)) + ": could not load the OpenGL functions");
+    }
+    if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33) {
+        throw RenderError(ErrorKind::unavailable, std::string(backend_name(backend_)) + ": OpenGL 3.3 core needed, got " +
+                                                      std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
+                                                      std::to_string(GLAD_VERSION_MINOR(version)));
+    }
+    fingerprint_.backend = backend_name(backend_);
+    fingerprint_.vendor = gl_string(*gl_, GL_VENDOR);
+    fingerprint_.renderer = gl_string(*gl_, GL_RENDERER);
+    fingerprint_.version = gl_string(*gl_, GL_VERSION);
+    fingerprint_.cpu_simd = cpu_simd_flags();
+    const char* threads = std::getenv("LP_NUM_THREADS");
+    fingerprint_.gl_threads = threads != nullptr ? std::atoi(threads) : 0;
+}
+
+namespace detail {
+
+void prepare_mesa_environment() {
+    // A fixed rasteriser thread count, decided once per machine (the core
+    // count, at most 8) instead of left to the driver. llvmpipe bins triangles
+    // into tiles in submission order and each tile is shaded by one thread, so
+    // the bytes do not depend on the count (tests/render checks 1 vs 2); fixing
+    // it makes the frame time repeatable and the fingerprint honest.
+    const unsigned cores = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
+    setenv("LP_NUM_THREADS", std::to_string(cores).c_str(), /*overwrite=*/0);
+    // EGL would pick a GPU driver where one exists; golden images are made
+    // with llvmpipe, as OSMesa always does. A user who wants the GPU sets
+    // LIBGL_ALWAYS_SOFTWARE=0.
+    setenv("LIBGL_ALWAYS_SOFTWARE", "1", /*overwrite=*/0);
+}
+
+}  // namespace detail
+
+std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
+    detail::prepare_mesa_environment();
+    switch (options.backend) {
+        case Backend::osmesa: return detail::create_osmesa_context();
+        case Backend::egl: return detail::create_egl_context();
+        case Backend::glfw: return detail::create_glfw_context(options);
+    }
+    throw RenderError(ErrorKind::bad_input, "unknown backend");
+}
+
+}  // namespace render

@@ -1,0 +1,86 @@
+// One small GL-context interface, three implementations (STYLE.md habit 8):
+//   osmesa  off-screen through Mesa's OSMesa (the default; no display needed)
+//   egl     off-screen through EGL's surfaceless platform (Mesa 25.1 removed
+//           OSMesa: this is the way forward, and it must give the same frames)
+//   glfw    a window, for `plausible view`; fails cleanly without a display
+// Each one creates a GL 3.3 core context and loads its own glad function table
+// through the backend's GetProcAddress. The renderer draws into its own
+// framebuffer objects, so the three differ only in how the context is made and
+// where a finished frame goes (nowhere, or the window).
+#pragma once
+
+#include "render/error.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+struct GladGLContext;  // glad 2 (--mx): one function table per context
+struct GLFWwindow;
+
+namespace render {
+
+enum class Backend { osmesa, egl, glfw };
+
+std::string_view backend_name(Backend backend);
+std::optional<Backend> backend_from_name(std::string_view name);
+
+// What made the pixels: golden files store it, and a golden check compares it
+// before blaming the simulation for a different picture.
+struct Fingerprint {
+    std::string backend;   // osmesa, egl, glfw
+    std::string vendor;    // GL_VENDOR
+    std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string version;   // GL_VERSION
+    std::string cpu_simd;  // the SIMD extensions this CPU has, which llvmpipe's code uses
+    int gl_threads = 0;    // llvmpipe rasteriser threads (LP_NUM_THREADS)
+    std::string summary() const;  // one line for logs and JSON
+};
+
+struct ContextOptions {
+    Backend backend = Backend::osmesa;
+    // Window backend only:
+    int window_width = 1280;  // px
+    int window_height = 720;  // px
+    std::string title = "Plausible";
+    bool visible = true;      // false: a hidden window (scripted screenshots)
+};
+
+class GlContext {
+public:
+    virtual ~GlContext();
+    GlContext(const GlContext&) = delete;
+    GlContext& operator=(const GlContext&) = delete;
+
+    Backend backend() const { return backend_; }
+    const Fingerprint& fingerprint() const { return fingerprint_; }
+    // The GL functions of this context; valid while it is current.
+    const GladGLContext& gl() const { return *gl_; }
+
+    virtual void make_current() = 0;
+
+    // Window backend only; the off-screen ones have no window.
+    virtual GLFWwindow* window() const { return nullptr; }
+    virtual void swap_buffers() {}
+
+protected:
+    explicit GlContext(Backend backend);
+    using GlProc = void (*)();
+    using GlProcLoader = GlProc (*)(const char* name);
+    // Loads the GL functions through `loader` (the context must be current),
+    // checks for GL 3.3 and records the fingerprint. Throws RenderError.
+    void load_functions(GlProcLoader loader);
+
+private:
+    Backend backend_;
+    Fingerprint fingerprint_;
+    std::unique_ptr<GladGLContext> gl_;
+};
+
+// Creates and makes current a context of the requested backend. Throws
+// RenderError: no_display for a window without a display, unavailable when the
+// backend's library cannot make a 3.3 core context here.
+std::unique_ptr<GlContext> create_context(const ContextOptions& options = {});
+
+}  // namespace render

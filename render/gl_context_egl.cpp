@@ -1,0 +1,109 @@
+// Off-screen contexts through EGL without a window system: Mesa's surfaceless
+// platform (EGL_MESA_platform_surfaceless), or else the device platform
+// (EGL_EXT_platform_device). A configless context (EGL_KHR_no_config_context)
+// with no surface: the renderer draws into its own framebuffer objects.
+#include "render/gl_context_backends.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace render::detail {
+namespace {
+
+bool has_extension(const char* list, const char* name) {
+    if (list == nullptr) return false;
+    const std::size_t length = std::strlen(name);
+    for (const char* p = list; (p = std::strstr(p, name)) != nullptr; p += length) {
+        const bool starts = p == list || p[-1] == ' ';
+        const bool ends = p[length] == ' ' || p[length] == '\0';
+        if (starts && ends) return true;
+    }
+    return false;
+}
+
+RenderError egl_error(const std::string& what) {
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(eglGetError()));
+    return RenderError(ErrorKind::unavailable, "egl: " + what + " (EGL error " + code + ")");
+}
+
+// A display of the surfaceless platform, or of the first device, or none.
+EGLDisplay open_display() {
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (get_platform_display == nullptr) return EGL_NO_DISPLAY;
+    if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
+        EGLDisplay display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        if (display != EGL_NO_DISPLAY) return display;
+    }
+    if (has_extension(client, "EGL_EXT_platform_device")) {
+        auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+        EGLDeviceEXT device = nullptr;
+        EGLint count = 0;
+        if (query_devices != nullptr && query_devices(1, &device, &count) && count > 0) {
+            return get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+        }
+    }
+    return EGL_NO_DISPLAY;
+}
+
+class EglContext final : public GlContext {
+public:
+    EglContext() : GlContext(Backend::egl) {
+        display_ = open_display();
+        if (display_ == EGL_NO_DISPLAY) {
+            throw egl_error("no surfaceless or device platform display (is libegl-mesa0 installed?)");
+        }
+        EGLint major = 0, minor = 0;
+        if (!eglInitialize(display_, &major, &minor)) throw egl_error("eglInitialize failed");
+        const char* extensions = eglQueryString(display_, EGL_EXTENSIONS);
+        if (!has_extension(extensions, "EGL_KHR_no_config_context") ||
+            !has_extension(extensions, "EGL_KHR_surfaceless_context")) {
+            throw RenderError(ErrorKind::unavailable,
+                              "egl: the display lacks EGL_KHR_no_config_context or EGL_KHR_surfaceless_context");
+        }
+        if (!eglBindAPI(EGL_OPENGL_API)) throw egl_error("eglBindAPI(EGL_OPENGL_API) failed");
+        const EGLint attribs[] = {
+            EGL_CONTEXT_MAJOR_VERSION,       3, EGL_CONTEXT_MINOR_VERSION, 3,
+            EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+            EGL_NONE,
+        };
+        context_ = eglCreateContext(display_, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+        if (context_ == EGL_NO_CONTEXT) throw egl_error("eglCreateContext refused a GL 3.3 core context");
+        try {
+            make_current();
+            load_functions(reinterpret_cast<GlProcLoader>(&eglGetProcAddress));
+        } catch (...) {
+            eglDestroyContext(display_, context_);
+            throw;
+        }
+    }
+    ~EglContext() override {
+        if (eglGetCurrentContext() == context_) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display_, context_);
+        // The display is shared by every context on it (EGL returns the same
+        // one for the same platform), so it is not terminated here.
+    }
+
+    void make_current() override {
+        if (eglGetCurrentContext() == context_) return;
+        if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) {
+            throw egl_error("eglMakeCurrent failed");
+        }
+    }
+
+private:
+    EGLDisplay display_ = EGL_NO_DISPLAY;
+    EGLContext context_ = EGL_NO_CONTEXT;
+};
+
+}  // namespace
+
+std::unique_ptr<GlContext> create_egl_context() { return std::make_unique<EglContext>(); }
+
+}  // namespace render::detail

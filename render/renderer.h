@@ -1,0 +1,65 @@
+// The renderer: draws a DrawList into an off-screen framebuffer of any size
+// with any GL context (OSMesa, EGL or a GLFW window) and reads it back as an
+// Image, or shows it in the window. Spheres are ray-cast impostors (two
+// triangles each, exact silhouettes and depth), capsules are a tube plus two
+// impostors, everything else is an instanced unit mesh; one directional light
+// with a shadow map, Blinn-Phong, optional MSAA; overlays in screen space.
+//
+// The same draw list and settings give the same bytes on every run on one
+// machine: no time, no randomness, fixed draw order (the order of the list).
+#pragma once
+
+#include "render/draw_list.h"
+#include "render/font.h"
+#include "render/gl_context.h"
+#include "render/image.h"
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+
+namespace render {
+
+class Renderer {
+public:
+    // The context must outlive the renderer. The font's atlas is uploaded once.
+    explicit Renderer(GlContext& context, const Font& font = Font::default_font());
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Draws the list. Throws RenderError(bad_input) for a size outside
+    // 1..8192 px or beyond the driver's limit, or an MSAA sample count other
+    // than 0, 1, 2, 4 or 8 (or beyond GL_MAX_SAMPLES); RenderError(gl) when
+    // the driver reports an error.
+    void draw(const DrawList& list, const RenderSettings& settings);
+    // The last frame drawn, 3 (RGB) or 4 (RGBA, alpha 255) channels, top row first.
+    Image read_back(int channels = 3);
+    // draw() then read_back().
+    Image render(const DrawList& list, const RenderSettings& settings, int channels = 3);
+    // Waits until the GPU (llvmpipe's threads) has finished the frame: for
+    // timing a frame without reading it back.
+    void finish();
+    // Window contexts: scales the last frame into the window and swaps buffers.
+    void present();
+
+    struct FrameStats {
+        std::size_t triangles = 0;   // including the shadow pass
+        std::size_t draw_calls = 0;
+    };
+    FrameStats last_frame() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Camera matrices as the renderer uses them (OpenGL conventions: right-handed
+// view space looking down -z, clip depth -1..1).
+Eigen::Matrix4f view_matrix(const Camera& camera);
+Eigen::Matrix4f projection_matrix(const Camera& camera, float aspect);
+// The pixel (x right, y down, pixel centres at +0.5) where a world point lands
+// in an image of the given size; empty behind the camera.
+std::optional<Vec2> project_to_pixel(const Camera& camera, int width, int height, const Vec3& point);
+
+}  // namespace render
