@@ -282,7 +282,11 @@ void main() {
     if (v_edge.x < -1e5) {
         float d = texture(u_atlas, v_uv).r;
         float w = max(fwidth(d) * 0.7, 1e-3);
-        alpha = smoothstep(u_on_edge - w, u_on_edge + w, d);
+        // Small text: thin strokes (an i's dot, an underscore) are narrower
+        // than the smoothing ramp and would fade away; the edge moves outward
+        // by a fraction of the ramp so they keep their ink.
+        float edge = u_on_edge - 0.35 * w;
+        alpha = smoothstep(edge - w, edge + w, d);
     } else {
         alpha = clamp(v_edge.y + 0.5 - abs(v_edge.x), 0.0, 1.0);
     }

@@ -1,154 +1,295 @@
 // The `plausible` command (DESIGN.md, "The command"). Exit codes: 0 ok,
-// 1 a simulation exploded, 2 bad input.
-#include "scenes/catalog.h"
-#include "sim/error.h"
-#include "sim/state_hash.h"
+// 1 a check failed or a simulation exploded, 2 bad input.
+#include "render/font.h"
+#include "render/gl_context.h"
+#include "render/renderer.h"
+#include "scenes/check.h"
+#include "scenes/scene.h"
+#include "scenes/scene_run.h"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
-#include <algorithm>
+#include <unistd.h>
+
 #include <chrono>
-#include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr int kExitOk = 0;
-constexpr int kExitExploded = 1;
+constexpr int kExitFailed = 1;
 constexpr int kExitBadInput = 2;
 
-struct RunOptions {
+// What every scene-taking subcommand accepts.
+struct SceneOptions {
     std::string scene;
-    std::optional<int> frames;
+    std::vector<std::string> sets;
     std::optional<std::string> integrator;
     std::optional<double> dt;
     std::optional<int> substeps;
+    std::optional<int> frames;
+
+    void add_to(CLI::App* app, bool shorthands) {
+        app->add_option("--set", sets, "Override a scene parameter, KEY=VALUE (e.g. step.dt=0.01); repeatable");
+        if (!shorthands) return;
+        app->add_option("--integrator", integrator, "Integrator (shorthand for --set step.integrator=NAME)");
+        app->add_option("--dt", dt, "Frame step, s (shorthand for --set step.dt=S)");
+        app->add_option("--substeps", substeps, "Integrator steps per frame step (--set step.substeps=N)");
+        app->add_option("--frames", frames, "Frame steps to run (--set frames=N)");
+    }
+    std::vector<scenes::Override> overrides() const {
+        std::vector<scenes::Override> out;
+        for (const std::string& s : sets) out.push_back(scenes::parse_override(s));
+        if (integrator) out.push_back({"step.integrator", "\"" + *integrator + "\""});
+        if (dt) out.push_back({"step.dt", sim::format_value(*dt)});
+        if (substeps) out.push_back({"step.substeps", std::to_string(*substeps)});
+        if (frames) out.push_back({"frames", std::to_string(*frames)});
+        return out;
+    }
+    scenes::SceneDef load() const { return scenes::load_scene(scenes::resolve_scene(scene), overrides()); }
+};
+
+double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+// --- list -------------------------------------------------------------------------
+
+int list_scenes() {
+    for (const std::string& name : scenes::catalog()) {
+        const scenes::SceneDef scene = scenes::load_scene(scenes::scenes_dir() / (name + ".toml"));
+        std::printf("%-12s %s\n", name.c_str(), scene.description.c_str());
+    }
+    return kExitOk;
+}
+
+// --- run ----------------------------------------------------------------------------
+
+struct RunOutput {
+    std::optional<std::string> csv;
     bool json = false;
 };
 
-struct EnergyStats {
-    double initial = 0, final = 0;
-    double min = std::numeric_limits<double>::infinity();
-    double max = -std::numeric_limits<double>::infinity();
-    void add(double e) {
-        final = e;
-        min = std::min(min, e);
-        max = std::max(max, e);
+int run_scene(const SceneOptions& options, const RunOutput& output) {
+    const scenes::SceneDef scene = options.load();
+    std::ofstream csv;
+    std::string csv_temp;
+    if (output.csv) {
+        csv_temp = *output.csv + ".tmp-" + std::to_string(getpid());
+        csv.open(csv_temp, std::ios::binary);
+        if (!csv) throw sim::InputError("--csv: cannot write " + *output.csv);
+        csv << "frame,time,kind,id,x,y,z,vx,vy,vz\n";
+        csv.precision(17);
     }
+    auto write_rows = [&](const scenes::SceneRun& run) {
+        if (!csv.is_open()) return;
+        const sim::ParticleState& s = run.world().state();
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            const sim::Vec3 x = s.x.get(i), v = s.v.get(i);
+            csv << run.frame() << ',' << s.t << ",particle," << i << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+                << v.x() << ',' << v.y() << ',' << v.z() << '\n';
+        }
+    };
+
+    scenes::SceneRun run(scene);
+    const double e0 = run.world().energy();
+    double e_min = e0, e_max = e0;
+    write_rows(run);
+    while (run.frame() < scene.frames && run.advance()) {
+        const double e = run.world().energy();
+        e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+        write_rows(run);
+    }
+    if (run.verdict().exploded()) {
+        write_rows(run);
+        const double e = run.world().energy();
+        e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+    }
+    if (csv.is_open()) {
+        csv.close();
+        std::error_code error;
+        fs::rename(csv_temp, *output.csv, error);
+        if (error) {
+            fs::remove(csv_temp, error);
+            throw sim::InputError("--csv: cannot write " + *output.csv);
+        }
+    }
+    const sim::World& world = run.world();
+    const double e1 = world.energy();
+    const std::string integrator(sim::integrator_info(scene.step.integrator).name);
+    const double steps = static_cast<double>(world.steps());
+    const auto& times = world.times();
+    const double ms_particles = steps > 0 ? 1e3 * times.particles / steps : 0.0;
+    const double ms_watchdog = steps > 0 ? 1e3 * times.watchdog / steps : 0.0;
+    std::optional<double> error;
+    if (!scene.ghosts.empty()) {
+        const scenes::Ghost& g = scene.ghosts.front();
+        error = (world.state().x.get(g.particle) - g.exact(run.time()).x).norm();
+    }
+    const sim::Verdict& verdict = run.verdict();
+
+    if (output.json) {
+        nlohmann::json j;
+        j["scene"] = scene.name;
+        j["integrator"] = integrator;
+        j["dt"] = scene.step.dt;
+        j["substeps"] = scene.step.substeps;
+        j["steps"] = world.steps();
+        j["frames"] = run.frame();
+        j["sim_time"] = number(run.time());
+        j["systems"] = scene.systems();
+        j["state_hash"] = run.state_hash_hex();
+        j["energy"] = {{"initial", number(e0)}, {"final", number(e1)}, {"min", number(e_min)}, {"max", number(e_max)}};
+        if (verdict.exploded()) {
+            j["verdict"] = {{"status", "exploded"},      {"frame", verdict.frame}, {"quantity", verdict.quantity},
+                            {"index", verdict.index},    {"value", number(verdict.value)}, {"limit", number(verdict.limit)},
+                            {"message", verdict.message(scene.name)}};
+        } else {
+            j["verdict"] = {{"status", "ok"}};
+        }
+        j["ms_per_step"] = {{"particles", ms_particles}, {"watchdog", ms_watchdog}, {"total", ms_particles + ms_watchdog}};
+        j["force_evaluations"] = world.force_evaluations();
+        if (error) j["position_error"] = number(*error);
+        std::cout << j.dump() << "\n";
+    } else {
+        std::printf("%s: %d frames of %s, dt %s x %d substeps, t = %.4g s\n", scene.name.c_str(), run.frame(),
+                    integrator.c_str(), scenes::format_dt(scene.step.dt).c_str(), scene.step.substeps, run.time());
+        const double drift = e0 != 0.0 ? 100.0 * (e1 - e0) / std::abs(e0) : 0.0;
+        std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", e0, finite_or_nan(e1),
+                    drift, e_min, e_max);
+        if (error) {
+            std::printf("  accuracy  %s is %.3e m from the %s closed form\n",
+                        scene.particle_names[scene.ghosts.front().particle].c_str(), *error,
+                        scene.ghosts.front().solution.c_str());
+        }
+        std::printf("  cost      %.0f force evaluations, %.3g ms per step (+ %.3g ms watchdog)\n",
+                    world.force_evaluations(), ms_particles, ms_watchdog);
+        std::printf("  state     hash %s\n", run.state_hash_hex().c_str());
+        if (verdict.exploded()) std::printf("%s\n", verdict.message(scene.name).c_str());
+    }
+    return verdict.exploded() ? kExitFailed : kExitOk;
+}
+
+// --- render -------------------------------------------------------------------------
+
+struct RenderOptions {
+    std::string frames;  // "0,30,60"; empty: the scene's checkpoints
+    std::string size = "640x480";
+    std::string out = "out/render";
+    std::string backend = "osmesa";
+    int msaa = 4;
 };
 
-bool state_is_finite(const sim::ParticleState& s) {
-    for (double value : s.x.raw()) {
-        if (!std::isfinite(value)) return false;
+std::pair<int, int> parse_size(const std::string& text) {
+    int w = 0, h = 0;
+    char end = 0;
+    if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &end) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) {
+        throw sim::InputError("--size must be WIDTHxHEIGHT within 16x16 .. 8192x8192 px (got '" + text + "')");
     }
-    for (double value : s.v.raw()) {
-        if (!std::isfinite(value)) return false;
-    }
-    return true;
+    return {w, h};
 }
 
-std::string json_number(double value) {
-    if (!std::isfinite(value)) return "null";
-    return sim::format_value(value);
+render::Backend parse_backend(const std::string& text) {
+    const auto b = render::backend_from_name(text);
+    if (!b || *b == render::Backend::glfw) throw sim::InputError("--backend must be osmesa or egl (got '" + text + "')");
+    return *b;
 }
 
-int run(const RunOptions& options) {
-    const scenes::SceneInfo* info = scenes::find_scene(options.scene);
-    if (info == nullptr) {
-        std::string names;
-        for (const auto& s : scenes::catalog()) names += (names.empty() ? "" : ", ") + std::string(s.name);
-        throw sim::InputError("unknown scene '" + options.scene + "' (scenes: " + names + ")");
+int render_scene(const SceneOptions& options, const RenderOptions& r) {
+    scenes::SceneDef scene = options.load();
+    const auto [w, h] = parse_size(r.size);
+    const render::Backend backend = parse_backend(r.backend);
+    if (r.msaa != 0 && r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8) {
+        throw sim::InputError("--msaa must be 0, 1, 2, 4 or 8 (got " + std::to_string(r.msaa) + ")");
     }
-    scenes::Scene scene = info->build();
-    if (options.integrator) {
-        const auto id = sim::integrator_from_name(*options.integrator);
-        if (!id) {
-            throw sim::InputError("--integrator: unknown integrator '" + *options.integrator +
-                                  "' (expected one of: " + sim::integrator_names() + ")");
-        }
-        scene.step.integrator = *id;
-    }
-    if (options.dt) scene.step.dt = *options.dt;
-    if (options.substeps) scene.step.substeps = *options.substeps;
-    if (options.frames) {
-        if (*options.frames < 0) {
-            throw sim::InputError("--frames must be >= 0 (got " + std::to_string(*options.frames) + ")");
-        }
-        scene.frames = *options.frames;
-    }
-    sim::validate(scene.step);
-
-    sim::World world(scene.model);
-    EnergyStats energy;
-    energy.initial = world.energy();
-    energy.add(energy.initial);
-    int exploded_at = -1;
-    const auto start = std::chrono::steady_clock::now();
-    for (int frame = 1; frame <= scene.frames; ++frame) {
-        world.step(scene.step);
-        energy.add(world.energy());
-        if (!state_is_finite(world.state())) {
-            exploded_at = frame;
-            break;
-        }
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const double ms_per_step = world.steps() ? 1e3 * seconds / static_cast<double>(world.steps()) : 0.0;
-    const sim::ParticleState& s = world.state();
-    const std::string integrator(sim::integrator_info(scene.step.integrator).name);
-
-    std::optional<double> position_error;
-    if (scene.reference) {
-        const auto exact = scene.reference->exact(s.t);
-        position_error = (s.x.get(scene.reference->particle) - exact.x).norm();
-    }
-    char hash[32];
-    std::snprintf(hash, sizeof hash, "%016" PRIx64, sim::state_hash(s));
-
-    if (options.json) {
-        std::ostringstream out;
-        out << "{\"scene\":\"" << info->name << "\",\"integrator\":\"" << integrator
-            << "\",\"dt\":" << json_number(scene.step.dt) << ",\"substeps\":" << scene.step.substeps
-            << ",\"steps\":" << world.steps() << ",\"sim_time\":" << json_number(s.t)
-            << ",\"systems\":[\"particles\"],\"state_hash\":\"" << hash
-            << "\",\"energy\":{\"initial\":" << json_number(energy.initial)
-            << ",\"final\":" << json_number(energy.final) << ",\"min\":" << json_number(energy.min)
-            << ",\"max\":" << json_number(energy.max) << "},\"verdict\":";
-        if (exploded_at < 0) {
-            out << "{\"status\":\"ok\"}";
-        } else {
-            out << "{\"status\":\"exploded\",\"frame\":" << exploded_at << ",\"quantity\":\"non-finite state\"}";
-        }
-        out << ",\"ms_per_step\":{\"particles\":" << json_number(ms_per_step)
-            << ",\"total\":" << json_number(ms_per_step) << "}";
-        if (position_error) out << ",\"position_error\":" << json_number(*position_error);
-        out << ",\"force_evaluations\":" << json_number(world.force_evaluations()) << "}\n";
-        std::cout << out.str();
+    std::vector<int> frames;
+    if (r.frames.empty()) {
+        frames = scene.checkpoints;
     } else {
-        std::printf("%s: %d frames of %s, dt %.6g s x %d substeps, t = %.4g s\n", std::string(info->name).c_str(),
-                    scene.frames, integrator.c_str(), scene.step.dt, scene.step.substeps, s.t);
-        const double drift =
-            energy.initial != 0.0 ? 100.0 * (energy.final - energy.initial) / std::abs(energy.initial) : 0.0;
-        std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", energy.initial,
-                    energy.final, drift, energy.min, energy.max);
-        if (position_error) {
-            std::printf("  accuracy  particle %zu is %.3e m from the closed form\n", scene.reference->particle,
-                        *position_error);
-        }
-        std::printf("  cost      %.0f force evaluations, %.3g ms per step\n", world.force_evaluations(), ms_per_step);
-        std::printf("  state     hash %s\n", hash);
-        if (exploded_at >= 0) {
-            std::printf("%s: exploded at frame %d: the state is no longer finite\n", std::string(info->name).c_str(),
-                        exploded_at);
+        std::stringstream list(r.frames);
+        std::string item;
+        while (std::getline(list, item, ',')) {
+            char* end = nullptr;
+            const long f = std::strtol(item.c_str(), &end, 10);
+            if (item.empty() || *end != '\0' || f < 0 || f > scene.frames || (!frames.empty() && f <= frames.back())) {
+                throw sim::InputError("--frames must be ascending frame numbers within 0 .. " + std::to_string(scene.frames) +
+                                      ", comma-separated (got '" + item + "' in '" + r.frames + "')");
+            }
+            frames.push_back(static_cast<int>(f));
         }
     }
-    return exploded_at < 0 ? kExitOk : kExitExploded;
+    fs::create_directories(r.out);
+    const auto context = render::create_context({.backend = backend});
+    render::Renderer renderer(*context);
+    scenes::SceneRun run(scene);
+    std::vector<render::Image> tiles;
+    std::vector<std::string> labels;
+    char name[64];
+    for (int f : frames) {
+        while (run.frame() < f && run.advance()) {
+        }
+        tiles.push_back(renderer.render(run.draw_list(w, h), {.width = w, .height = h, .msaa_samples = r.msaa}));
+        std::snprintf(name, sizeof name, "_f%05d.png", run.frame());
+        const fs::path png = fs::path(r.out) / (scene.name + name);
+        render::write_png(png, tiles.back());
+        std::printf("%s\n", png.c_str());
+        labels.push_back("frame " + std::to_string(run.frame()));
+        if (run.verdict().exploded()) break;
+    }
+    const fs::path sheet = fs::path(r.out) / (scene.name + "_sheet.png");
+    render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font()));
+    std::printf("%s\n", sheet.c_str());
+    if (run.verdict().exploded()) {
+        std::printf("%s\n", run.verdict().message(scene.name).c_str());
+        return kExitFailed;
+    }
+    return kExitOk;
+}
+
+// --- check --------------------------------------------------------------------------
+
+struct CheckArgs {
+    std::vector<std::string> scenes;
+    std::string update = "none";
+    std::string report = "out/check";
+    std::string backend = "osmesa";
+};
+
+int check(const CheckArgs& a, const SceneOptions& options) {
+    scenes::CheckOptions o;
+    if (a.update == "none") o.update = scenes::UpdateMode::none;
+    else if (a.update == "missing") o.update = scenes::UpdateMode::missing;
+    else if (a.update == "changed") o.update = scenes::UpdateMode::changed;
+    else if (a.update == "all") o.update = scenes::UpdateMode::all;
+    else throw sim::InputError("--update must be none, missing, changed or all (got '" + a.update + "')");
+    const auto overrides = options.overrides();
+    if (o.update != scenes::UpdateMode::none && !overrides.empty()) {
+        throw sim::InputError("--update with --set would bless a scene that is not the one in its file: drop one of them");
+    }
+    o.report_dir = a.report;
+    const std::vector<std::string> names = a.scenes.empty() ? scenes::catalog() : a.scenes;
+    const auto context = render::create_context({.backend = parse_backend(a.backend)});
+    render::Renderer renderer(*context);
+    const auto results = scenes::check_scenes(names, overrides, o, renderer, context->fingerprint());
+    int passed = 0, failed = 0, errors = 0;
+    for (const scenes::SceneCheck& c : results) {
+        const bool ok = c.status == scenes::SceneCheck::Status::pass || c.status == scenes::SceneCheck::Status::updated;
+        passed += ok ? 1 : 0;
+        errors += c.status == scenes::SceneCheck::Status::error ? 1 : 0;
+        failed += !ok && c.status != scenes::SceneCheck::Status::error ? 1 : 0;
+        std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), scenes::status_name(c.status), c.message.c_str(), c.seconds);
+    }
+    std::printf("%d passed, %d failed, %d errors; report: %s\n", passed, failed, errors,
+                (fs::path(a.report) / "index.html").c_str());
+    return failed > 0 ? kExitFailed : errors > 0 ? kExitBadInput : kExitOk;
 }
 
 }  // namespace
@@ -159,14 +300,34 @@ int main(int argc, char** argv) {
 
     CLI::App* list = app.add_subcommand("list", "List the scenes with their descriptions");
 
-    RunOptions options;
-    CLI::App* run_cmd = app.add_subcommand("run", "Run a scene headless and print a summary");
-    run_cmd->add_option("scene", options.scene, "Scene name (see `plausible list`)")->required();
-    run_cmd->add_option("--frames", options.frames, "Frame steps to run");
-    run_cmd->add_option("--integrator", options.integrator, "One of: " + sim::integrator_names());
-    run_cmd->add_option("--dt", options.dt, "Frame step, s");
-    run_cmd->add_option("--substeps", options.substeps, "Integrator steps per frame step");
-    run_cmd->add_flag("--json", options.json, "Print one JSON object");
+    SceneOptions run_options;
+    RunOutput run_output;
+    CLI::App* run = app.add_subcommand("run", "Run a scene headless and print a summary");
+    run->add_option("scene", run_options.scene, "Scene name (see `plausible list`) or path of a .toml file")->required();
+    run_options.add_to(run, true);
+    run->add_option("--csv", run_output.csv, "Write frame,time,kind,id,x,y,z,vx,vy,vz per object per frame");
+    run->add_flag("--json", run_output.json, "Print one JSON object");
+
+    SceneOptions render_options;
+    RenderOptions render_args;
+    CLI::App* render_cmd = app.add_subcommand("render", "Render frames of a scene to PNG, and a contact sheet");
+    render_cmd->add_option("scene", render_options.scene, "Scene name or .toml path")->required();
+    render_options.add_to(render_cmd, false);
+    render_cmd->add_option("--frames", render_args.frames, "Frames to render, e.g. 0,30,60 (default: the checkpoints)");
+    render_cmd->add_option("--size", render_args.size, "Image size WIDTHxHEIGHT, px")->capture_default_str();
+    render_cmd->add_option("--out", render_args.out, "Output folder")->capture_default_str();
+    render_cmd->add_option("--backend", render_args.backend, "osmesa or egl")->capture_default_str();
+    render_cmd->add_option("--msaa", render_args.msaa, "MSAA samples (0 off)")->capture_default_str();
+
+    CheckArgs check_args;
+    SceneOptions check_options;
+    CLI::App* check_cmd = app.add_subcommand("check", "Compare scenes' checkpoint frames with their golden images");
+    check_cmd->add_option("scenes", check_args.scenes, "Scenes to check (default: all)");
+    check_options.add_to(check_cmd, true);
+    check_cmd->add_option("--update", check_args.update, "Write goldens: none, missing, changed or all")->capture_default_str();
+    check_cmd->add_option("--report", check_args.report, "Folder for the report (index.html, report.json, images)")
+        ->capture_default_str();
+    check_cmd->add_option("--backend", check_args.backend, "osmesa or egl")->capture_default_str();
 
     try {
         app.parse(argc, argv);
@@ -176,15 +337,19 @@ int main(int argc, char** argv) {
     }
 
     try {
-        if (*list) {
-            for (const scenes::SceneInfo& s : scenes::catalog()) {
-                std::printf("%-12s %s\n", std::string(s.name).c_str(), std::string(s.description).c_str());
-            }
-            return kExitOk;
-        }
-        return run(options);
+        if (*list) return list_scenes();
+        if (*run) return run_scene(run_options, run_output);
+        if (*render_cmd) return render_scene(render_options, render_args);
+        return check(check_args, check_options);
     } catch (const sim::InputError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitBadInput;
+    } catch (const render::RenderError& e) {
+        std::fprintf(stderr, "plausible: error: %s\n", e.what());
+        return e.kind() == render::ErrorKind::bad_input || e.kind() == render::ErrorKind::no_display ? kExitBadInput
+                                                                                                      : kExitFailed;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "plausible: error: %s\n", e.what());
+        return kExitFailed;
     }
 }

@@ -3,6 +3,7 @@
 #include "sim/error.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -37,6 +38,13 @@ World::World(ParticleModel model)
       state_(make_state(model_.particles)),
       forces_(model_.forces, state_.mass, state_.inv_mass) {
     scratch_.resize(kMaxScratch);
+    initial_energy_ = energy();
+}
+
+void World::set_watchdog(const WatchdogLimits& limits) {
+    validate(limits);
+    watchdog_ = limits;
+    initial_energy_ = energy();
 }
 
 ParticleState& World::edit_state() {
@@ -46,9 +54,21 @@ ParticleState& World::edit_state() {
 
 void World::step(const StepSettings& settings) {
     validate(settings);
+    if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
+    ++frames_;
+    using Clock = std::chrono::steady_clock;
     const double h = settings.dt / settings.substeps;
-    for (int i = 0; i < settings.substeps; ++i) {
-        step_once(settings.integrator, h);
+    for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
+        const auto start = Clock::now();
+        step_once(settings.integrator, h);  // forces and integration
+        const auto integrated = Clock::now();
+        if (watchdog_.enabled) {
+            // The energy rule costs a potential-energy pass: only when asked for.
+            const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
+            verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+        }
+        times_.particles += std::chrono::duration<double>(integrated - start).count();
+        times_.watchdog += std::chrono::duration<double>(Clock::now() - integrated).count();
     }
 }
 

@@ -6,6 +6,7 @@
 #include "sim/forces.h"
 #include "sim/integrators.h"
 #include "sim/particles.h"
+#include "sim/watchdog.h"
 
 #include <cstdint>
 #include <vector>
@@ -42,8 +43,23 @@ public:
     World& operator=(const World&) = delete;
 
     // Advances one frame step: settings.substeps integrator steps of
-    // settings.dt / settings.substeps. Throws InputError for bad settings.
+    // settings.dt / settings.substeps, the watchdog after each. Throws
+    // InputError for bad settings. Once the watchdog has a verdict, does nothing.
     void step(const StepSettings& settings);
+
+    // The watchdog (on by default with WatchdogLimits{}). Setting limits
+    // validates them (InputError) and takes the current energy as E0.
+    void set_watchdog(const WatchdogLimits& limits);
+    const WatchdogLimits& watchdog() const { return watchdog_; }
+    const Verdict& verdict() const { return verdict_; }
+    std::uint64_t frames() const { return frames_; }  // step() calls so far
+
+    // Wall time spent per system, accumulated: what a frame budget goes to.
+    struct SystemTimes {
+        double particles = 0.0;  // s, integration (force evaluations included)
+        double watchdog = 0.0;   // s
+    };
+    const SystemTimes& times() const { return times_; }
 
     const ParticleModel& model() const { return model_; }
     const ParticleState& state() const { return state_; }
@@ -78,6 +94,12 @@ private:
     Integrator memory_integrator_ = Integrator::symplectic_euler;
     double memory_h_ = 0.0;
     std::uint64_t steps_ = 0;
+
+    WatchdogLimits watchdog_;
+    double initial_energy_ = 0.0;  // J, E0 for the watchdog's energy rule
+    Verdict verdict_;
+    std::uint64_t frames_ = 0;
+    SystemTimes times_;
 };
 
 }  // namespace sim

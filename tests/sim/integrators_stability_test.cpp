@@ -5,6 +5,8 @@
 #include "sim/integrators.h"
 #include "tests/sim/problems.h"
 
+#include "sim/state_hash.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -23,6 +25,10 @@ constexpr long kSteps = 100000;
 // Energy ratio E/E0 after every step.
 std::vector<double> energy_history(Integrator id, long steps) {
     World world(oscillator_model(kOscillator, Vec3(1.0, 0.0, 0.0), Vec3::Zero()));
+    // The integrator alone, to overflow if it must: the watchdog would stop it.
+    WatchdogLimits off;
+    off.enabled = false;
+    world.set_watchdog(off);
     const double e0 = world.energy();
     std::vector<double> ratio;
     ratio.reserve(static_cast<std::size_t>(steps));
@@ -57,6 +63,34 @@ TEST(EnergyForwardEuler, OverflowsLongBefore1e5Steps) {
     // 1.01^1e5 ≈ e^995 exceeds the largest double: the run explodes.
     const std::vector<double> ratio = energy_history(Integrator::forward_euler, kSteps);
     EXPECT_FALSE(std::isfinite(ratio.back())) << "E/E0 after 1e5 steps: " << ratio.back();
+}
+
+TEST(EnergyForwardEuler, TheWatchdogStopsItWithAVerdict) {
+    World world(oscillator_model(kOscillator, Vec3(1.0, 0.0, 0.0), Vec3::Zero()));
+    WatchdogLimits limits;
+    limits.energy_growth = 2.0;
+    world.set_watchdog(limits);
+    const double e0 = world.energy();
+    long frames = 0;
+    while (!world.verdict().exploded() && frames < 100000) {
+        world.step({Integrator::forward_euler, kDt, 1});
+        ++frames;
+    }
+    // E grows by exactly (1 + ω² dt²) per step (ω = 1 here): it first exceeds 2 E0
+    // after ceil(ln 2 / ln(1 + dt²)) steps.
+    const long predicted = static_cast<long>(std::ceil(std::log(2.0) / std::log1p(kDt * kDt)));
+    const Verdict& v = world.verdict();
+    ASSERT_TRUE(v.exploded());
+    EXPECT_EQ(v.quantity, "energy");
+    EXPECT_EQ(static_cast<long>(v.frame), predicted);
+    EXPECT_DOUBLE_EQ(v.limit, 2.0 * e0) << "J";
+    EXPECT_GT(v.value, v.limit) << "J";
+    const std::uint64_t hash = state_hash(world.state());
+    world.step({Integrator::forward_euler, kDt, 1});
+    EXPECT_EQ(state_hash(world.state()), hash) << "no step after the verdict";
+    EXPECT_NE(v.message("oscillator").find("oscillator: exploded at frame " + std::to_string(predicted) + ": energy"),
+              std::string::npos)
+        << v.message("oscillator");
 }
 
 struct BandCase {

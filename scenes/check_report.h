@@ -1,0 +1,39 @@
+// The report of a golden check: report.json (every scene, every number) and a
+// static index.html (failures first; expected and actual flicker on click).
+// Plain structs: nothing here knows the physics.
+#pragma once
+
+#include "render/golden.h"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+struct CheckpointHash {
+    int frame = 0;
+    std::string expected;  // hex; empty when there is no golden
+    std::string actual;
+};
+
+struct SceneCheck {
+    std::string scene;
+    enum class Status { pass, fail, missing, exploded, updated, error } status = Status::pass;
+    std::string message;                      // one line
+    std::optional<render::GoldenDiff> image;  // metrics, when an image comparison happened
+    std::vector<CheckpointHash> hashes;
+    int first_hash_mismatch = -1;             // checkpoint index, -1: none
+    std::string expected_png, actual_png, diff_png, side_png;  // relative to the report folder; empty: not written
+    std::string fingerprint_expected, fingerprint_actual;       // renderer fingerprints, one line each
+    double seconds = 0;                                          // s, wall time of the scene's check
+};
+
+const char* status_name(SceneCheck::Status status);
+
+// Writes <dir>/report.json and <dir>/index.html, each atomically. Throws
+// std::runtime_error naming the path when the folder cannot be written.
+void write_check_report(const std::filesystem::path& dir, const std::vector<SceneCheck>& scenes);
+
+}  // namespace scenes

@@ -1,0 +1,97 @@
+// A scene as its file describes it (immutable once loaded): the particle
+// model, how it steps, how long it runs, what the watchdog allows, what the
+// camera sees and which overlays a picture shows. Every consumer (run,
+// render, check, video, view, report, tests) builds its worlds from one.
+//
+// Scene files are TOML (scenes/<name>.toml); scenes/scene_file.cpp reads them
+// and documents every key.
+#pragma once
+
+#include "render/draw_list.h"
+#include "sim/analytic.h"
+#include "sim/error.h"
+#include "sim/watchdog.h"
+#include "sim/world.h"
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+// A scene file or a --set override that cannot be used. The message starts
+// with "file:line:column: " (or "--set KEY: ") and names the key, what was
+// expected and what was found. The command exits 2 on it.
+class SceneError : public sim::InputError {
+public:
+    using sim::InputError::InputError;
+};
+
+// How a particle is drawn (drawing only, never physics).
+struct ParticleLook {
+    double radius = 0.1;  // m
+    render::Color color;
+};
+
+// A closed-form trajectory for one particle: the semi-transparent "ghost"
+// beside the simulated particle, and what run summaries measure the error
+// against. Derived from the scene's own parameters by the loader.
+struct Ghost {
+    std::size_t particle = 0;
+    std::string solution;  // ballistic, oscillator, kepler, pendulum
+    std::function<sim::analytic::PointState(double t)> exact;
+};
+
+// What a picture of the scene shows besides the bodies.
+struct View {
+    bool ground = true;
+    double ground_height = 0.0;       // m
+    int trail_frames = 0;             // frames of trail behind each moving particle; 0: none
+    double velocity_arrows = 0.0;     // s: an arrow of v * this per moving particle; 0: none
+    bool energy_plot = false;         // total energy over time, bottom right
+    bool hud = true;                  // scene, integrator, dt, t and E, top left
+};
+
+struct SceneDef {
+    std::string name;                  // scene name (file stem)
+    std::filesystem::path file;        // where it was read from
+    std::string description;           // one sentence
+
+    sim::ParticleModel model;
+    std::vector<std::string> particle_names;  // one per particle ("" for unnamed)
+    std::vector<ParticleLook> looks;          // one per particle
+    sim::StepSettings step;
+    int frames = 600;                  // frame steps the scene runs
+    std::vector<int> checkpoints;      // frames the golden filmstrip shows, ascending, <= frames
+    sim::WatchdogLimits watchdog;
+    render::Camera camera;
+    View view;
+    std::vector<Ghost> ghosts;
+
+    // The systems this scene builds, for `run --json` ("particles", "springs", ...).
+    std::vector<std::string> systems() const;
+};
+
+// "KEY=VALUE" overrides applied to the file before validation, with the same
+// checks (and their errors say "--set KEY").
+struct Override {
+    std::string key;    // dotted path: step.dt, forces.springs[0].stiffness, particles[1].mass
+    std::string value;  // a TOML value: 0.01, "rk4", true, [0, 1, 0]
+};
+Override parse_override(const std::string& text);  // "KEY=VALUE"; SceneError when malformed
+
+// Reads and validates a scene file. Throws SceneError.
+SceneDef load_scene(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
+// The same from text (tests); `display_name` stands for the file in messages.
+SceneDef parse_scene(std::string_view text, const std::string& display_name, const std::vector<Override>& overrides = {});
+
+// Shipped scenes: the ordered catalogue (scenes/catalog.txt) and where their
+// files live ($PLAUSIBLE_SCENES_DIR, else the source tree's scenes/).
+std::filesystem::path scenes_dir();
+std::vector<std::string> catalog();
+// A catalogue name or the path of a .toml file. Throws SceneError naming the
+// known scenes when it is neither.
+std::filesystem::path resolve_scene(const std::string& name_or_path);
+
+}  // namespace scenes

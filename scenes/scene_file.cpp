@@ -1,0 +1,793 @@
+// Scene files: TOML read with toml++, validated strictly, turned into a
+// SceneDef. Every error names file:line:column, the key, what was expected and
+// what was found, e.g.
+//   scenes/rope.toml:12:5: forces.springs[0].stiffness must be >= 0 and finite, in N/m (got -3)
+//
+// The format (all keys but `description` are optional; units SI, angles in degrees):
+//   description = "One sentence."
+//   frames = 600                      # frame steps the scene runs
+//   checkpoints = [0, 60, 120]        # frames the golden filmstrip shows
+//   [step]       integrator = "symplectic_euler", dt = 0.0166667 (s), substeps = 1
+//   [[particles]] name, position = [x, y, z] (m), velocity (m/s), mass (kg), pinned,
+//                 radius (m, drawing), color = "#rrggbb" or [r, g, b]
+//   [[groups]]   name, count, start (m), spacing (m, between neighbours), and the
+//                particle keys above (velocity, mass, pinned, radius, color)
+//   [forces.gravity] g = [0, -9.81, 0]      [forces.drag] c (N·s/m)
+//   [forces.quadratic_drag] c (N·s²/m²)     [forces.newton_gravity] G, softening
+//   [[forces.springs]] a, b (particle names or indices), rest_length (m; default:
+//                the initial distance), stiffness (N/m), damping (N·s/m)
+//   [watchdog]   enabled, max_speed (m/s), world_half_extent (m), energy_growth, energy_floor (J)
+//   [camera]     projection = "perspective"|"orthographic", eye, target, up, fov (deg), height (m)
+//   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), energy_plot, hud
+//   [[ghosts]]   particle, solution = "ballistic"|"oscillator"|"kepler"|"pendulum",
+//                anchor (oscillator, pendulum: the pinned particle), center (kepler)
+//
+// Contents: 1. locations and messages  2. typed reads  3. sections  4. ghosts
+//           5. overrides  6. entry points
+#include "scenes/scene.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+namespace scenes {
+namespace {
+
+// Limits that keep a malformed file from asking for absurd work or memory.
+constexpr int kMaxFrames = 10'000'000;
+constexpr std::size_t kMaxParticles = 1'000'000;
+constexpr std::size_t kMaxSprings = 4'000'000;
+constexpr int kMaxCheckpoints = 16;
+constexpr int kMaxSubsteps = 10'000;
+
+// --- 1. Locations and messages ---------------------------------------------------
+
+std::string quote(std::string_view s) {
+    std::string out = "'";
+    for (char c : s.substr(0, 60)) out += (static_cast<unsigned char>(c) < 0x20) ? '?' : c;
+    if (s.size() > 60) out += "...";
+    return out + "'";
+}
+
+// What a node is, for "(got ...)".
+std::string describe(const toml::node& node) {
+    if (auto v = node.value<double>(); v && (node.is_integer() || node.is_floating_point())) {
+        return sim::format_value(*v);
+    }
+    if (auto s = node.value<std::string>()) return "the string " + quote(*s);
+    if (auto b = node.value<bool>()) return *b ? "true" : "false";
+    if (node.is_array()) return "an array of " + std::to_string(node.as_array()->size());
+    if (node.is_table()) return "a table";
+    return "a date or time";
+}
+
+// Edit distance, for "did you mean" on unknown keys.
+std::size_t distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = up;
+        }
+    }
+    return row[b.size()];
+}
+
+class Reader {
+public:
+    explicit Reader(std::string file) : file_(std::move(file)) {}
+
+    // Nodes made by --set have no place in the file: they are named by the override.
+    void mark_override(const toml::node* node, std::string text) { overrides_[node] = std::move(text); }
+
+    std::string where(const toml::node* node) const {
+        if (node != nullptr) {
+            if (auto it = overrides_.find(node); it != overrides_.end()) return "--set " + it->second;
+            const auto& begin = node->source().begin;
+            if (begin.line > 0) return file_ + ":" + std::to_string(begin.line) + ":" + std::to_string(begin.column);
+        }
+        return file_ + ":1:1";  // about the whole file
+    }
+    [[noreturn]] void fail(const toml::node* node, const std::string& message) const {
+        throw SceneError(where(node) + ": " + message);
+    }
+    const std::string& file() const { return file_; }
+
+private:
+    std::string file_;
+    std::map<const toml::node*, std::string> overrides_;
+};
+
+// --- 2. Typed reads of one table ---------------------------------------------------
+
+// A table of the file with its dotted path ("forces.springs[0]"), read key by key.
+class Section {
+public:
+    Section(const Reader& reader, const toml::table& table, std::string path)
+        : r_(reader), t_(table), path_(std::move(path)) {}
+
+    const toml::table& table() const { return t_; }
+    std::string key_path(std::string_view key) const { return path_.empty() ? std::string(key) : path_ + "." + std::string(key); }
+    const toml::node* node(std::string_view key) const { return t_.get(key); }
+    [[noreturn]] void fail(std::string_view key, const std::string& message) const {
+        const toml::node* n = node(key);
+        r_.fail(n != nullptr ? n : static_cast<const toml::node*>(&t_), key_path(key) + " " + message);
+    }
+
+    // Every key must be one of `allowed`; the error suggests the nearest.
+    void only(std::initializer_list<std::string_view> allowed) const {
+        for (auto&& [key, value] : t_) {
+            const std::string_view k = key.str();
+            if (std::find(allowed.begin(), allowed.end(), k) != allowed.end()) continue;
+            std::string list, best;
+            std::size_t best_distance = 3;
+            for (std::string_view a : allowed) {
+                list += (list.empty() ? "" : ", ") + std::string(a);
+                if (const std::size_t d = distance(k, a); d < best_distance) best_distance = d, best = a;
+            }
+            const std::string hint = best.empty() ? "" : " (did you mean '" + best + "'?)";
+            r_.fail(&value, "unknown key " + quote(key_path(k)) + hint + "; expected one of: " + list);
+        }
+    }
+
+    // A finite number within [lo, hi] (an integer literal is fine).
+    double number(std::string_view key, double fallback, double lo, double hi, const char* unit) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        const auto value = n->value<double>();
+        const std::string range = range_text(lo, hi, unit);
+        if (!value || !(n->is_integer() || n->is_floating_point())) fail(key, "must be a number " + range + " (got " + describe(*n) + ")");
+        if (!std::isfinite(*value) || *value < lo || *value > hi) {
+            fail(key, "must be " + range + " (got " + sim::format_value(*value) + ")");
+        }
+        return *value;
+    }
+    // Strictly positive, at most hi.
+    double positive(std::string_view key, double fallback, double hi, const char* unit) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        const auto value = n->value<double>();
+        std::string expected = "must be > 0 and finite, in " + std::string(unit);
+        if (hi < 1e300) expected = "must be > 0 and at most " + sim::format_value(hi) + ", in " + std::string(unit);
+        if (!value || !(n->is_integer() || n->is_floating_point())) fail(key, expected + " (got " + describe(*n) + ")");
+        if (!std::isfinite(*value) || !(*value > 0) || *value > hi) fail(key, expected + " (got " + sim::format_value(*value) + ")");
+        return *value;
+    }
+    long long integer(std::string_view key, long long fallback, long long lo, long long hi) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        if (!n->is_integer()) {
+            fail(key, "must be an integer within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " + describe(*n) + ")");
+        }
+        const long long v = *n->value<long long>();
+        if (v < lo || v > hi) {
+            fail(key, "must be within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " + std::to_string(v) + ")");
+        }
+        return v;
+    }
+    bool boolean(std::string_view key, bool fallback) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        if (!n->is_boolean()) fail(key, "must be true or false (got " + describe(*n) + ")");
+        return *n->value<bool>();
+    }
+    std::string string(std::string_view key, const std::string& fallback, std::size_t max_length = 200) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        if (!n->is_string()) fail(key, "must be a string (got " + describe(*n) + ")");
+        std::string s = *n->value<std::string>();
+        if (s.size() > max_length) fail(key, "must be at most " + std::to_string(max_length) + " bytes long (got " + std::to_string(s.size()) + ")");
+        return s;
+    }
+    // One of a fixed set of words.
+    std::string word(std::string_view key, const std::string& fallback, std::initializer_list<std::string_view> words) const {
+        const std::string s = string(key, fallback);
+        std::string list;
+        for (std::string_view w : words) {
+            if (w == s) return s;
+            list += (list.empty() ? "" : ", ") + std::string(w);
+        }
+        fail(key, "must be one of " + list + " (got " + quote(s) + ")");
+    }
+    // [x, y, z] of finite numbers, each within +-limit.
+    sim::Vec3 vec3(std::string_view key, const sim::Vec3& fallback, const char* unit, double limit = 1e9) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        const toml::array* a = n->as_array();
+        const std::string expected = "must be [x, y, z]: three finite numbers in " + std::string(unit);
+        if (a == nullptr || a->size() != 3) fail(key, expected + " (got " + describe(*n) + ")");
+        sim::Vec3 v;
+        for (std::size_t i = 0; i < 3; ++i) {
+            const toml::node& e = *a->get(i);
+            const auto x = e.value<double>();
+            if (!x || !(e.is_integer() || e.is_floating_point()) || !std::isfinite(*x) || std::abs(*x) > limit) {
+                r_.fail(&e, key_path(key) + "[" + std::to_string(i) + "] " + expected + ", within +-" +
+                                sim::format_value(limit) + " (got " + describe(e) + ")");
+            }
+            v[static_cast<int>(i)] = *x;
+        }
+        return v;
+    }
+    render::Color color(std::string_view key, const render::Color& fallback) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return fallback;
+        const std::string expected = "must be \"#rrggbb\" or [r, g, b] with each in 0 .. 1";
+        if (auto s = n->value<std::string>()) {
+            unsigned rgb = 0;
+            char end = 0;
+            if (s->size() != 7 || (*s)[0] != '#' || std::sscanf(s->c_str() + 1, "%6x%c", &rgb, &end) != 1) {
+                fail(key, expected + " (got " + quote(*s) + ")");
+            }
+            return render::Color{static_cast<float>((rgb >> 16) & 0xFF) / 255.0f,
+                                 static_cast<float>((rgb >> 8) & 0xFF) / 255.0f, static_cast<float>(rgb & 0xFF) / 255.0f, 1};
+        }
+        const toml::array* a = n->as_array();
+        if (a == nullptr || a->size() != 3) fail(key, expected + " (got " + describe(*n) + ")");
+        float c[3];
+        for (std::size_t i = 0; i < 3; ++i) {
+            const auto x = a->get(i)->value<double>();
+            if (!x || !(*x >= 0.0 && *x <= 1.0)) fail(key, expected + " (got " + describe(*a->get(i)) + " at [" + std::to_string(i) + "])");
+            c[i] = static_cast<float>(*x);
+        }
+        return render::Color{c[0], c[1], c[2], 1};
+    }
+    // A sub-table, or none.
+    const toml::table* subtable(std::string_view key) const {
+        const toml::node* n = node(key);
+        if (n == nullptr) return nullptr;
+        if (!n->is_table()) fail(key, "must be a table (got " + describe(*n) + ")");
+        return n->as_table();
+    }
+    // An array of tables ([[key]]), or none.
+    std::vector<const toml::table*> tables(std::string_view key, std::size_t max_count) const {
+        std::vector<const toml::table*> out;
+        const toml::node* n = node(key);
+        if (n == nullptr) return out;
+        const toml::array* a = n->as_array();
+        if (a == nullptr) fail(key, "must be an array of tables ([[" + key_path(key) + "]]) (got " + describe(*n) + ")");
+        if (a->size() > max_count) fail(key, "may have at most " + std::to_string(max_count) + " entries (got " + std::to_string(a->size()) + ")");
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const toml::node& e = *a->get(i);
+            if (!e.is_table()) r_.fail(&e, key_path(key) + "[" + std::to_string(i) + "] must be a table (got " + describe(e) + ")");
+            out.push_back(e.as_table());
+        }
+        return out;
+    }
+
+private:
+    static std::string range_text(double lo, double hi, const char* unit) {
+        std::string text;
+        if (lo == -std::numeric_limits<double>::max() || lo <= -1e300) {
+            text = "finite";
+        } else {
+            text = ">= " + sim::format_value(lo) + " and finite";
+        }
+        if (hi < 1e300) text = "within " + sim::format_value(lo) + " .. " + sim::format_value(hi);
+        return text + ", in " + unit;
+    }
+
+    const Reader& r_;
+    const toml::table& t_;
+    std::string path_;
+};
+
+constexpr double kHuge = std::numeric_limits<double>::max();
+
+// A palette for particles without a colour: distinct, readable on the light sky.
+render::Color palette(std::size_t i) {
+    static const render::Color colors[] = {{0.90f, 0.33f, 0.12f, 1}, {0.16f, 0.42f, 0.80f, 1}, {0.20f, 0.62f, 0.30f, 1},
+                                           {0.78f, 0.22f, 0.52f, 1}, {0.95f, 0.70f, 0.15f, 1}, {0.35f, 0.30f, 0.70f, 1}};
+    return colors[i % std::size(colors)];
+}
+
+// --- 3. Sections -------------------------------------------------------------------
+
+struct Builder {
+    const Reader& r;
+    SceneDef& scene;
+    std::map<std::string, std::size_t, std::less<>> by_name;
+
+    void particle_keys(const Section& s, sim::ParticleDef& p, ParticleLook& look, std::size_t index) {
+        p.velocity = s.vec3("velocity", sim::Vec3::Zero(), "m/s");
+        p.mass = s.positive("mass", 1.0, kHuge, "kg");
+        p.pinned = s.boolean("pinned", false);
+        if (p.pinned) p.velocity.setZero();
+        look.radius = s.positive("radius", 0.1, 100.0, "m");
+        look.color = s.color("color", p.pinned ? render::Color{0.45f, 0.45f, 0.48f, 1} : palette(index));
+    }
+
+    void add_name(const Section& s, const std::string& name, std::size_t index) {
+        if (name.empty()) return;
+        if (!by_name.emplace(name, index).second) s.fail("name", "must be unique: " + quote(name) + " is taken");
+    }
+
+    void particles(const Section& top) {
+        for (const toml::table* t : top.tables("particles", kMaxParticles)) {
+            const std::size_t i = scene.model.particles.size();
+            const Section s(r, *t, "particles[" + std::to_string(i) + "]");
+            s.only({"name", "position", "velocity", "mass", "pinned", "radius", "color"});
+            sim::ParticleDef p;
+            ParticleLook look;
+            if (s.node("position") == nullptr) r.fail(t, s.key_path("position") + " is required: [x, y, z] in m");
+            p.position = s.vec3("position", sim::Vec3::Zero(), "m");
+            particle_keys(s, p, look, i);
+            const std::string name = s.string("name", "", 64);
+            add_name(s, name, i);
+            scene.model.particles.push_back(p);
+            scene.looks.push_back(look);
+            scene.particle_names.push_back(name);
+        }
+        const auto groups = top.tables("groups", 10'000);
+        for (std::size_t g = 0; g < groups.size(); ++g) {
+            const Section s(r, *groups[g], "groups[" + std::to_string(g) + "]");
+            s.only({"name", "count", "start", "spacing", "velocity", "mass", "pinned", "radius", "color"});
+            const long long count = s.integer("count", 1, 1, static_cast<long long>(kMaxParticles));
+            if (scene.model.particles.size() + static_cast<std::size_t>(count) > kMaxParticles) {
+                s.fail("count", "makes more than " + std::to_string(kMaxParticles) + " particles in the scene");
+            }
+            const sim::Vec3 start = s.vec3("start", sim::Vec3::Zero(), "m");
+            const sim::Vec3 spacing = s.vec3("spacing", sim::Vec3(0.5, 0, 0), "m");
+            const std::string name = s.string("name", "", 64);
+            sim::ParticleDef p;
+            ParticleLook look;
+            particle_keys(s, p, look, scene.model.particles.size());
+            for (long long k = 0; k < count; ++k) {
+                p.position = start + static_cast<double>(k) * spacing;
+                const std::size_t i = scene.model.particles.size();
+                const std::string member = name.empty() ? "" : name + "[" + std::to_string(k) + "]";
+                add_name(s, member, i);
+                scene.model.particles.push_back(p);
+                scene.looks.push_back(look);
+                scene.particle_names.push_back(member);
+            }
+        }
+        if (scene.model.particles.empty()) r.fail(&top.table(), "a scene needs at least one [[particles]] or [[groups]] entry");
+    }
+
+    // A particle named by its name or its index.
+    std::size_t particle_ref(const Section& s, std::string_view key) {
+        const toml::node* n = s.node(key);
+        if (n == nullptr) s.fail(key, "is required: a particle name or index");
+        if (auto name = n->value<std::string>(); name && n->is_string()) {
+            if (auto it = by_name.find(*name); it != by_name.end()) return it->second;
+            s.fail(key, "names no particle (got " + quote(*name) + ")");
+        }
+        if (n->is_integer()) {
+            const long long i = *n->value<long long>();
+            if (i >= 0 && static_cast<std::size_t>(i) < scene.model.particles.size()) return static_cast<std::size_t>(i);
+            s.fail(key, "must be a particle index within 0 .. " + std::to_string(scene.model.particles.size() - 1) +
+                            " (got " + std::to_string(i) + ")");
+        }
+        s.fail(key, "must be a particle name or index (got " + describe(*n) + ")");
+    }
+
+    void forces(const Section& top) {
+        const toml::table* t = top.subtable("forces");
+        if (t == nullptr) return;
+        const Section f(r, *t, "forces");
+        f.only({"gravity", "drag", "quadratic_drag", "newton_gravity", "springs"});
+        if (const toml::table* g = f.subtable("gravity")) {
+            const Section s(r, *g, "forces.gravity");
+            s.only({"g"});
+            scene.model.forces.push_back(sim::UniformGravity{s.vec3("g", sim::Vec3(0, -9.81, 0), "m/s²", 1e6)});
+        }
+        if (const toml::table* d = f.subtable("drag")) {
+            const Section s(r, *d, "forces.drag");
+            s.only({"c"});
+            scene.model.forces.push_back(sim::LinearDrag{s.number("c", 0.1, 0.0, kHuge, "N·s/m")});
+        }
+        if (const toml::table* d = f.subtable("quadratic_drag")) {
+            const Section s(r, *d, "forces.quadratic_drag");
+            s.only({"c"});
+            scene.model.forces.push_back(sim::QuadraticDrag{s.number("c", 0.01, 0.0, kHuge, "N·s²/m²")});
+        }
+        if (const toml::table* n = f.subtable("newton_gravity")) {
+            const Section s(r, *n, "forces.newton_gravity");
+            s.only({"G", "softening"});
+            scene.model.forces.push_back(
+                sim::NewtonGravity{s.positive("G", 6.674e-11, kHuge, "m³/(kg·s²)"), s.number("softening", 0.0, 0.0, kHuge, "m")});
+        }
+        const auto springs = f.tables("springs", kMaxSprings);
+        if (!springs.empty()) {
+            sim::Springs list;
+            for (std::size_t k = 0; k < springs.size(); ++k) {
+                const Section s(r, *springs[k], "forces.springs[" + std::to_string(k) + "]");
+                s.only({"a", "b", "rest_length", "stiffness", "damping"});
+                sim::Spring spring;
+                const std::size_t a = particle_ref(s, "a"), b = particle_ref(s, "b");
+                if (a == b) s.fail("b", "must be another particle than a (both are particle " + std::to_string(a) + ")");
+                spring.i = static_cast<std::uint32_t>(a);
+                spring.j = static_cast<std::uint32_t>(b);
+                const double initial = (scene.model.particles[a].position - scene.model.particles[b].position).norm();
+                spring.rest = s.number("rest_length", initial, 0.0, kHuge, "m");
+                spring.k = s.number("stiffness", 100.0, 0.0, kHuge, "N/m");
+                spring.c = s.number("damping", 0.0, 0.0, kHuge, "N·s/m");
+                list.list.push_back(spring);
+            }
+            scene.model.forces.push_back(std::move(list));
+        }
+    }
+
+    void step(const Section& top) {
+        const toml::table* t = top.subtable("step");
+        if (t == nullptr) return;
+        const Section s(r, *t, "step");
+        s.only({"integrator", "dt", "substeps"});
+        if (s.node("integrator") != nullptr) {
+            const std::string name = s.string("integrator", "");
+            const auto id = sim::integrator_from_name(name);
+            if (!id) s.fail("integrator", "must be one of " + sim::integrator_names() + " (got " + quote(name) + ")");
+            scene.step.integrator = *id;
+        }
+        scene.step.dt = s.positive("dt", scene.step.dt, 10.0, "s");
+        scene.step.substeps = static_cast<int>(s.integer("substeps", 1, 1, kMaxSubsteps));
+    }
+
+    void watchdog(const Section& top) {
+        const toml::table* t = top.subtable("watchdog");
+        if (t == nullptr) return;
+        const Section s(r, *t, "watchdog");
+        s.only({"enabled", "max_speed", "world_half_extent", "energy_growth", "energy_floor"});
+        sim::WatchdogLimits& w = scene.watchdog;
+        w.enabled = s.boolean("enabled", w.enabled);
+        w.max_speed = s.positive("max_speed", w.max_speed, kHuge, "m/s");
+        w.world_half_extent = s.positive("world_half_extent", w.world_half_extent, kHuge, "m");
+        w.energy_growth = s.number("energy_growth", w.energy_growth, 0.0, kHuge, "(a factor; 0 is off)");
+        if (w.energy_growth != 0.0 && w.energy_growth < 1.0) {
+            s.fail("energy_growth", "must be 0 (off) or >= 1 (got " + sim::format_value(w.energy_growth) + ")");
+        }
+        w.energy_floor = s.positive("energy_floor", w.energy_floor, kHuge, "J");
+    }
+
+    void camera(const Section& top) {
+        render::Camera& c = scene.camera;
+        c.eye = render::Vec3(0.0f, 1.5f, 6.0f);
+        c.target = render::Vec3(0.0f, 1.0f, 0.0f);
+        const toml::table* t = top.subtable("camera");
+        if (t == nullptr) return;
+        const Section s(r, *t, "camera");
+        s.only({"projection", "eye", "target", "up", "fov", "height"});
+        c.projection = s.word("projection", "perspective", {"perspective", "orthographic"}) == "orthographic"
+                           ? render::Camera::Projection::orthographic
+                           : render::Camera::Projection::perspective;
+        c.eye = s.vec3("eye", c.eye.cast<double>(), "m", 1e5).cast<float>();
+        c.target = s.vec3("target", c.target.cast<double>(), "m", 1e5).cast<float>();
+        c.up = s.vec3("up", sim::Vec3::UnitY(), "(a direction)", 1e5).cast<float>();
+        if ((c.eye - c.target).norm() < 1e-6f) s.fail("target", "must differ from camera.eye");
+        if (c.up.norm() < 1e-6f || c.up.normalized().cross((c.target - c.eye).normalized()).norm() < 1e-3f) {
+            s.fail("up", "must be a non-zero direction not parallel to the view direction");
+        }
+        c.fov_y_deg = static_cast<float>(s.number("fov", c.fov_y_deg, 1.0, 170.0, "degrees"));
+        c.ortho_height = static_cast<float>(s.positive("height", c.ortho_height, 1e5, "m"));
+    }
+
+    void view(const Section& top) {
+        const toml::table* t = top.subtable("view");
+        if (t == nullptr) return;
+        const Section s(r, *t, "view");
+        s.only({"ground", "ground_height", "trail_frames", "velocity_arrows", "energy_plot", "hud"});
+        View& v = scene.view;
+        v.ground = s.boolean("ground", v.ground);
+        v.ground_height = s.number("ground_height", v.ground_height, -1e5, 1e5, "m");
+        v.trail_frames = static_cast<int>(s.integer("trail_frames", v.trail_frames, 0, 100'000));
+        v.velocity_arrows = s.number("velocity_arrows", v.velocity_arrows, 0.0, 1e3, "s");
+        v.energy_plot = s.boolean("energy_plot", v.energy_plot);
+        v.hud = s.boolean("hud", v.hud);
+    }
+
+    void timing(const Section& top) {
+        scene.frames = static_cast<int>(top.integer("frames", 600, 1, kMaxFrames));
+        const toml::node* n = top.node("checkpoints");
+        if (n == nullptr) {
+            for (int k = 0; k <= 3; ++k) scene.checkpoints.push_back(scene.frames * k / 3);
+            return;
+        }
+        const toml::array* a = n->as_array();
+        if (a == nullptr || a->empty() || a->size() > kMaxCheckpoints) {
+            top.fail("checkpoints", "must be an array of 1 .. " + std::to_string(kMaxCheckpoints) +
+                                        " frame numbers (got " + describe(*n) + ")");
+        }
+        for (std::size_t i = 0; i < a->size(); ++i) {
+            const toml::node& e = *a->get(i);
+            const auto f = e.value<long long>();
+            if (!e.is_integer() || *f < 0 || *f > scene.frames ||
+                (!scene.checkpoints.empty() && *f <= scene.checkpoints.back())) {
+                r.fail(&e, "checkpoints[" + std::to_string(i) + "] must be an integer frame within 0 .. frames (" +
+                               std::to_string(scene.frames) + "), ascending (got " + describe(e) + ")");
+            }
+            scene.checkpoints.push_back(static_cast<int>(*f));
+        }
+    }
+
+    // --- 4. Ghosts: closed forms from the scene's own parameters ----------------------
+
+    template <typename T>
+    const T* find_force() const {
+        for (const sim::ForceDef& f : scene.model.forces) {
+            if (const T* t = std::get_if<T>(&f)) return t;
+        }
+        return nullptr;
+    }
+    bool has_drag() const { return find_force<sim::LinearDrag>() != nullptr || find_force<sim::QuadraticDrag>() != nullptr; }
+    // The spring joining particles a and b, or none.
+    const sim::Spring* spring_between(std::size_t a, std::size_t b) const {
+        if (const sim::Springs* s = find_force<sim::Springs>()) {
+            for (const sim::Spring& sp : s->list) {
+                if ((sp.i == a && sp.j == b) || (sp.i == b && sp.j == a)) return &sp;
+            }
+        }
+        return nullptr;
+    }
+
+    void ghosts(const Section& top) {
+        const auto list = top.tables("ghosts", 64);
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            const Section s(r, *list[k], "ghosts[" + std::to_string(k) + "]");
+            s.only({"particle", "solution", "anchor", "center"});
+            Ghost g;
+            g.particle = particle_ref(s, "particle");
+            g.solution = s.word("solution", "", {"ballistic", "oscillator", "kepler", "pendulum"});
+            const sim::ParticleDef& p = scene.model.particles[g.particle];
+            if (p.pinned) s.fail("particle", "is pinned: it has no trajectory to compare");
+            const sim::Vec3 x0 = p.position, v0 = p.velocity;
+            const sim::UniformGravity* gravity = find_force<sim::UniformGravity>();
+            const sim::Springs* springs = find_force<sim::Springs>();
+            const std::size_t coupled = springs != nullptr ? springs->list.size() : 0;
+            auto pinned_ref = [&](std::string_view key) {
+                const std::size_t a = particle_ref(s, key);
+                if (!scene.model.particles[a].pinned) s.fail(key, "must name a pinned particle");
+                return a;
+            };
+            if (g.solution == "ballistic") {
+                if (gravity == nullptr || has_drag() || coupled > 0 || find_force<sim::NewtonGravity>() != nullptr) {
+                    s.fail("solution", "'ballistic' needs uniform gravity and no drag, springs or Newtonian gravity");
+                }
+                const sim::Vec3 gv = gravity->g;
+                g.exact = [=](double t) { return sim::analytic::ballistic(x0, v0, gv, t); };
+            } else if (g.solution == "oscillator") {
+                const std::size_t a = pinned_ref("anchor");
+                const sim::Spring* sp = spring_between(g.particle, a);
+                if (sp == nullptr || sp->rest != 0.0 || coupled != 1 || gravity != nullptr || has_drag()) {
+                    s.fail("solution", "'oscillator' needs exactly one zero-rest-length spring to the anchor, and no gravity or drag");
+                }
+                const sim::analytic::Oscillator o{p.mass, sp->k, sp->c};
+                const sim::Vec3 anchor = scene.model.particles[a].position;
+                g.exact = [=](double t) {
+                    sim::analytic::PointState st = sim::analytic::oscillator(o, x0 - anchor, v0, t);
+                    st.x += anchor;
+                    return st;
+                };
+            } else if (g.solution == "kepler") {
+                const std::size_t c = pinned_ref("center");
+                const sim::NewtonGravity* ng = find_force<sim::NewtonGravity>();
+                if (ng == nullptr || ng->softening != 0.0 || gravity != nullptr || has_drag() || coupled > 0 ||
+                    scene.model.particles.size() != 2) {
+                    s.fail("solution", "'kepler' needs two particles, Newtonian gravity without softening, and no other force");
+                }
+                const double mu = ng->G * scene.model.particles[c].mass;
+                const sim::Vec3 centre = scene.model.particles[c].position;
+                if ((v0.squaredNorm() / 2 - mu / (x0 - centre).norm()) >= 0) s.fail("particle", "is not on a bound orbit (energy >= 0)");
+                g.exact = [=](double t) {
+                    sim::analytic::PointState st = sim::analytic::kepler(mu, x0 - centre, v0, t);
+                    st.x += centre;
+                    return st;
+                };
+            } else {  // pendulum: small-angle closed form about a pinned anchor
+                const std::size_t a = pinned_ref("anchor");
+                const sim::Spring* sp = spring_between(g.particle, a);
+                if (sp == nullptr || gravity == nullptr || coupled != 1 || has_drag() || !(sp->k > 0)) {
+                    s.fail("solution", "'pendulum' needs gravity and one spring (the rod) to the anchor, and no drag");
+                }
+                const sim::Vec3 anchor = scene.model.particles[a].position;
+                const double gn = gravity->g.norm();
+                const sim::Vec3 down = gravity->g / gn;
+                // The spring rod stretches by m g / k under the bob's weight: that is the length that swings.
+                const double length = sp->rest + p.mass * gn / sp->k;
+                const sim::Vec3 d = x0 - anchor;
+                sim::Vec3 side = d - d.dot(down) * down;
+                const double theta0 = std::atan2(side.norm(), d.dot(down));
+                side = side.norm() > 0 ? sim::Vec3(side.normalized()) : sim::Vec3::UnitX();
+                const double theta_dot0 = v0.dot(side) / length;
+                if (std::abs(theta0) > 30.0 * std::numbers::pi / 180.0) {
+                    s.fail("particle", "starts more than 30 degrees from the vertical: the small-angle closed form does not hold");
+                }
+                g.exact = [=](double t) {
+                    const auto ang = sim::analytic::small_angle_pendulum(length, gn, theta0, theta_dot0, t);
+                    const sim::Vec3 radial = std::sin(ang.theta) * side + std::cos(ang.theta) * down;
+                    const sim::Vec3 tangent = std::cos(ang.theta) * side - std::sin(ang.theta) * down;
+                    return sim::analytic::PointState{anchor + length * radial, length * ang.omega * tangent};
+                };
+            }
+            scene.ghosts.push_back(std::move(g));
+        }
+    }
+};
+
+// --- 5. Overrides ---------------------------------------------------------------------
+
+// Applies "a.b[2].c = value" to the parsed file; the new node is marked so
+// that errors about it say "--set KEY=VALUE".
+void apply_override(toml::table& root, const Override& o, Reader& reader) {
+    const std::string text = o.key + "=" + o.value;
+    auto fail = [&](const std::string& why) -> void { throw SceneError("--set " + text + ": " + why); };
+    toml::table value_doc;
+    try {
+        value_doc = toml::parse("v = " + o.value);
+    } catch (const toml::parse_error& e) {
+        fail("the value is not a TOML value (" + std::string(e.description()) + "); strings need quotes: \"rk4\"");
+    }
+    toml::table* table = &root;
+    std::string so_far;
+    std::stringstream path(o.key);
+    std::string segment;
+    std::vector<std::string> segments;
+    while (std::getline(path, segment, '.')) segments.push_back(segment);
+    for (std::size_t s = 0; s < segments.size(); ++s) {
+        std::string name = segments[s];
+        std::optional<std::size_t> index;
+        if (const auto open = name.find('['); open != std::string::npos) {
+            char* end = nullptr;
+            const unsigned long i = std::strtoul(name.c_str() + open + 1, &end, 10);
+            if (end == name.c_str() + open + 1 || *end != ']' || end[1] != '\0') fail("malformed index in " + quote(name));
+            index = i;
+            name = name.substr(0, open);
+        }
+        if (name.empty()) fail("empty key segment");
+        const bool last = s + 1 == segments.size();
+        so_far += (so_far.empty() ? "" : ".") + name;
+        if (last && !index) {
+            table->insert_or_assign(name, std::move(*value_doc.get("v")));
+            reader.mark_override(table->get(name), text);
+            return;
+        }
+        toml::node* next = table->get(name);
+        if (index) {
+            toml::array* array = next != nullptr ? next->as_array() : nullptr;
+            if (array == nullptr || *index >= array->size()) {
+                fail(quote(so_far) + " has " + std::to_string(array != nullptr ? array->size() : 0) + " entries");
+            }
+            if (last) {
+                array->replace(array->begin() + static_cast<std::ptrdiff_t>(*index), std::move(*value_doc.get("v")));
+                reader.mark_override(array->get(*index), text);
+                return;
+            }
+            next = array->get(*index);
+            so_far += "[" + std::to_string(*index) + "]";
+        } else if (next == nullptr) {
+            table->insert(name, toml::table{});
+            next = table->get(name);
+        }
+        if (!next->is_table()) fail(quote(so_far) + " is not a table");
+        table = next->as_table();
+    }
+}
+
+// --- 6. Entry points ---------------------------------------------------------------------
+
+SceneDef build(const toml::table& root, Reader& reader, const std::string& name) {
+    SceneDef scene;
+    scene.name = name;
+    const Section top(reader, root, "");
+    if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
+    top.only({"description", "frames", "checkpoints", "step", "particles", "groups", "forces", "watchdog", "camera",
+              "view", "ghosts"});
+    if (top.node("description") == nullptr) reader.fail(&root, "description is required: one sentence saying what the scene shows");
+    scene.description = top.string("description", "", 300);
+    Builder b{reader, scene, {}};
+    b.timing(top);
+    b.step(top);
+    b.particles(top);
+    b.forces(top);
+    b.watchdog(top);
+    b.camera(top);
+    b.view(top);
+    b.ghosts(top);
+    // The physics core's own checks, as a backstop (they name the item, not the line).
+    try {
+        sim::validate(scene.model);
+        sim::validate(scene.step);
+        sim::validate(scene.watchdog);
+    } catch (const sim::InputError& e) {
+        throw SceneError(reader.file() + ": " + e.what());
+    }
+    return scene;
+}
+
+SceneDef parse_with(std::string_view text, const std::string& display, const std::string& name,
+                    const std::vector<Override>& overrides) {
+    Reader reader(display);
+    toml::table root;
+    try {
+        root = toml::parse(text, display);
+    } catch (const toml::parse_error& e) {
+        const auto& at = e.source().begin;
+        throw SceneError(display + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                         ": not valid TOML: " + std::string(e.description()));
+    }
+    for (const Override& o : overrides) apply_override(root, o, reader);
+    return build(root, reader, name);
+}
+
+}  // namespace
+
+std::vector<std::string> SceneDef::systems() const {
+    std::vector<std::string> out = {"particles"};
+    for (const sim::ForceDef& f : model.forces) {
+        if (std::holds_alternative<sim::Springs>(f)) out.push_back("springs");
+    }
+    if (watchdog.enabled) out.push_back("watchdog");
+    return out;
+}
+
+Override parse_override(const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) {
+        throw SceneError("--set " + quote(text) + ": expected KEY=VALUE, e.g. step.dt=0.01");
+    }
+    return Override{text.substr(0, eq), text.substr(eq + 1)};
+}
+
+SceneDef parse_scene(std::string_view text, const std::string& display_name, const std::vector<Override>& overrides) {
+    return parse_with(text, display_name, std::filesystem::path(display_name).stem().string(), overrides);
+}
+
+SceneDef load_scene(const std::filesystem::path& file, const std::vector<Override>& overrides) {
+    constexpr std::uintmax_t kMaxBytes = 16u << 20;  // a scene file is text a person writes
+    std::error_code error;
+    const auto size = std::filesystem::file_size(file, error);
+    if (error) throw SceneError(file.string() + ": cannot read the scene file (" + error.message() + ")");
+    if (size > kMaxBytes) throw SceneError(file.string() + ": " + std::to_string(size) + " bytes is too large for a scene file (at most 16 MiB)");
+    std::ifstream in(file, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw SceneError(file.string() + ": cannot read the scene file");
+    SceneDef scene = parse_with(text, file.string(), file.stem().string(), overrides);
+    scene.file = file;
+    return scene;
+}
+
+std::filesystem::path scenes_dir() {
+    const char* env = std::getenv("PLAUSIBLE_SCENES_DIR");
+    return env != nullptr && *env != '\0' ? std::filesystem::path(env)
+                                          : std::filesystem::path(PLAUSIBLE_SOURCE_DIR) / "scenes";
+}
+
+std::vector<std::string> catalog() {
+    std::vector<std::string> names;
+    std::ifstream in(scenes_dir() / "catalog.txt");
+    if (!in) throw SceneError((scenes_dir() / "catalog.txt").string() + ": the scene catalogue cannot be read");
+    std::string line;
+    while (std::getline(in, line)) {
+        line = line.substr(0, line.find('#'));
+        line.erase(0, line.find_first_not_of(" \t"));
+        line.erase(line.find_last_not_of(" \t\r") + 1);
+        if (!line.empty()) names.push_back(line);
+    }
+    return names;
+}
+
+std::filesystem::path resolve_scene(const std::string& name_or_path) {
+    const auto names = catalog();
+    if (std::find(names.begin(), names.end(), name_or_path) != names.end()) {
+        return scenes_dir() / (name_or_path + ".toml");
+    }
+    if (name_or_path.ends_with(".toml")) {
+        if (!std::filesystem::exists(name_or_path)) throw SceneError(name_or_path + ": no such scene file");
+        return name_or_path;
+    }
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw SceneError("unknown scene " + quote(name_or_path) + " (scenes: " + list + "; or the path of a .toml file)");
+}
+
+}  // namespace scenes

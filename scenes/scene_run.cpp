@@ -1,0 +1,139 @@
+#include "scenes/scene_run.h"
+
+#include "sim/state_hash.h"
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+
+namespace scenes {
+namespace {
+
+render::Vec3 to_render(const sim::Vec3& v) { return v.cast<float>(); }
+
+std::string format(const char* pattern, double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, pattern, value);
+    return text;
+}
+
+}  // namespace
+
+std::string format_dt(double dt) {
+    const double hz = 1.0 / dt;
+    if (std::abs(hz - std::round(hz)) < 1e-9 * hz && hz >= 2) return "1/" + format("%.0f", hz) + " s";
+    return format("%.4g", dt) + " s";
+}
+
+SceneRun::SceneRun(const SceneDef& scene) : scene_(scene), world_(scene.model) {
+    world_.set_watchdog(scene.watchdog);
+    trails_.resize(scene.model.particles.size());
+    record();
+}
+
+bool SceneRun::advance() {
+    if (world_.verdict().exploded()) return false;
+    world_.step(scene_.step);
+    ++frame_;
+    record();
+    return !world_.verdict().exploded();
+}
+
+void SceneRun::record() {
+    if (scene_.view.energy_plot) energy_.emplace_back(static_cast<float>(time()), static_cast<float>(world_.energy()));
+    if (scene_.view.trail_frames <= 0) return;
+    const sim::ParticleState& s = world_.state();
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s.inv_mass[i] == 0.0) continue;
+        auto& trail = trails_[i];
+        trail.push_back(to_render(s.x.get(i)));
+        if (static_cast<int>(trail.size()) > scene_.view.trail_frames + 1) trail.pop_front();
+    }
+}
+
+std::uint64_t SceneRun::state_hash() const { return sim::state_hash(world_.state()); }
+
+std::string SceneRun::state_hash_hex() const {
+    char text[32];
+    std::snprintf(text, sizeof text, "%016" PRIx64, state_hash());
+    return text;
+}
+
+render::DrawList SceneRun::draw_list(int width, int height) const {
+    render::DrawList list;
+    list.camera = scene_.camera;
+    list.ground.enabled = scene_.view.ground;
+    list.ground.height = static_cast<float>(scene_.view.ground_height);
+    const sim::ParticleState& s = world_.state();
+
+    // Springs as cylinders, thinner than the particles they join.
+    for (const sim::ForceDef& f : scene_.model.forces) {
+        if (const auto* springs = std::get_if<sim::Springs>(&f)) {
+            for (const sim::Spring& sp : springs->list) {
+                const double r = 0.25 * std::min(scene_.looks[sp.i].radius, scene_.looks[sp.j].radius);
+                list.cylinders.push_back(render::Cylinder{to_render(s.x.get(sp.i)), to_render(s.x.get(sp.j)),
+                                                          static_cast<float>(std::min(r, 0.03)),
+                                                          render::Look{render::Color{0.35f, 0.35f, 0.4f, 1}}});
+            }
+        }
+    }
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const ParticleLook& look = scene_.looks[i];
+        list.spheres.push_back(render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
+        if (s.inv_mass[i] != 0.0 && scene_.view.velocity_arrows > 0) {
+            const sim::Vec3 v = s.v.get(i) * scene_.view.velocity_arrows;
+            if (v.norm() > look.radius) {
+                list.arrows.push_back(render::Arrow{to_render(s.x.get(i)), to_render(v), 0.2f * static_cast<float>(look.radius),
+                                                    0.45f * static_cast<float>(look.radius),
+                                                    render::Look{render::Color{0.15f, 0.6f, 0.25f, 1}}});
+            }
+        }
+        const auto& trail = trails_[i];
+        if (trail.size() >= 2) {
+            render::Ribbon ribbon;
+            ribbon.points.assign(trail.begin(), trail.end());
+            ribbon.width = 0.5f * static_cast<float>(look.radius);
+            ribbon.look.color = look.color;
+            ribbon.look.color.a = 0.8f;
+            list.ribbons.push_back(std::move(ribbon));
+        }
+    }
+    for (const Ghost& g : scene_.ghosts) {
+        const ParticleLook& look = scene_.looks[g.particle];
+        list.spheres.push_back(render::Sphere{to_render(g.exact(time()).x), static_cast<float>(look.radius),
+                                              render::Look{look.color, true}});
+    }
+
+    // Overlays scale with the image: text about 1/20 of its height.
+    const float h = static_cast<float>(height), w = static_cast<float>(width);
+    const float text = std::max(13.0f, h / 22.0f);  // px; smaller text loses thin strokes
+    if (scene_.view.hud) {
+        const std::string integrator(sim::integrator_info(scene_.step.integrator).name);
+        std::string title = scene_.name + " · " + integrator + " · Δt = " + format_dt(scene_.step.dt);
+        if (scene_.step.substeps > 1) title += " / " + std::to_string(scene_.step.substeps);
+        list.texts.push_back(render::Text{title, render::Vec2(0.5f * text, 0.4f * text), text,
+                                          render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+        const std::string state = "t = " + format("%.2f", time()) + " s   E = " + format("%.5g", world_.energy()) + " J";
+        list.texts.push_back(render::Text{state, render::Vec2(0.5f * text, 1.9f * text), 0.85f * text,
+                                          render::Color{0.2f, 0.2f, 0.25f, 1}, true});
+        if (verdict().exploded()) {
+            list.texts.push_back(render::Text{verdict().message(scene_.name), render::Vec2(0.5f * text, 3.2f * text),
+                                              0.8f * text, render::Color{0.8f, 0.05f, 0.05f, 1}, true});
+        }
+    }
+    if (scene_.view.energy_plot && energy_.size() >= 2) {
+        render::Plot plot;
+        plot.size = render::Vec2(std::max(160.0f, 0.36f * w), std::max(100.0f, 0.3f * h));
+        plot.position = render::Vec2(w - plot.size.x() - 0.3f * text, h - plot.size.y() - 0.3f * text);
+        plot.text_size = std::max(9.0f, 0.7f * text);
+        plot.title = "Energy (J)";
+        plot.x_label = "t (s)";
+        plot.x_range = render::Vec2(0.0f, static_cast<float>(scene_.frames * scene_.step.dt));
+        plot.series.push_back(render::Plot::Series{"", energy_, render::Color{0.15f, 0.35f, 0.85f, 1}, 2.0f});
+        list.plots.push_back(std::move(plot));
+    }
+    return list;
+}
+
+}  // namespace scenes

@@ -1,0 +1,51 @@
+// One run of a scene: a World built from the SceneDef (DESIGN.md rule 2), the
+// frame counter, what pictures need from the past (trails, the energy curve),
+// and the glue that turns it all into a render::DrawList (DESIGN.md rule 1:
+// sim knows nothing of rendering, render nothing of physics; this file knows
+// both). run, render, check, video and view all step scenes through it.
+#pragma once
+
+#include "render/draw_list.h"
+#include "scenes/scene.h"
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+class SceneRun {
+public:
+    // The description must outlive the run. The step settings are the scene's.
+    explicit SceneRun(const SceneDef& scene);
+
+    // One frame step (World::step). False once the watchdog has stopped the run.
+    bool advance();
+
+    int frame() const { return frame_; }
+    double time() const { return world_.state().t; }  // s
+    const sim::World& world() const { return world_; }
+    const SceneDef& scene() const { return scene_; }
+    const sim::Verdict& verdict() const { return world_.verdict(); }
+    std::uint64_t state_hash() const;
+    std::string state_hash_hex() const;
+
+    // The picture now, for an image of width x height px (overlays are laid
+    // out in pixels).
+    render::DrawList draw_list(int width, int height) const;
+
+private:
+    void record();
+
+    const SceneDef& scene_;
+    sim::World world_;
+    int frame_ = 0;
+    std::vector<std::deque<render::Vec3>> trails_;  // per particle, oldest first (empty for pinned ones)
+    std::vector<render::Vec2> energy_;              // (t s, E J) per frame
+};
+
+// "1/60 s" when dt is the reciprocal of a whole number, else "0.004 s".
+std::string format_dt(double dt);
+
+}  // namespace scenes

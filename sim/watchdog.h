@@ -1,0 +1,51 @@
+// The explosion watchdog (DESIGN.md "Golden checks"): after every integrator
+// step it looks for a non-finite state, a particle too fast, a particle out
+// of the world box, or total energy grown past a factor of its initial value,
+// and reports the first violation as a Verdict {frame, quantity, index, value}.
+// World stops stepping once it has one: no garbage frames after a NaN.
+#pragma once
+
+#include "sim/particles.h"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace sim {
+
+struct WatchdogLimits {
+    bool enabled = true;
+    double max_speed = 500.0;          // m/s; a particle faster than this has exploded
+    double world_half_extent = 1.0e4;  // m; |x|, |y| or |z| beyond it is outside the world box (centred on the origin)
+    // Energy growth: 0 is off (scenes whose energy may grow: driven, scripted).
+    // Otherwise exploded when E - E0 > (energy_growth - 1) max(|E0|, energy_floor).
+    double energy_growth = 0.0;
+    double energy_floor = 1e-6;        // J; keeps the energy test meaningful when E0 is near 0
+};
+
+// Throws InputError naming the field and value, e.g.
+// "watchdog.max_speed must be > 0 and finite, in m/s (got -3)".
+void validate(const WatchdogLimits& limits);
+
+struct Verdict {
+    enum class Status { ok, exploded };
+    Status status = Status::ok;
+    std::uint64_t frame = 0;  // the frame step (World::step call, 1-based) in which it was detected
+    std::string quantity;     // "position" or "velocity" (non-finite), "speed", "bounds", "energy"
+    std::size_t index = 0;    // particle index (0 for energy)
+    double value = 0.0;       // the offending value in the quantity's unit (m, m/s, J); NaN for non-finite
+    double limit = 0.0;       // the limit it broke
+    double initial_energy = 0.0;  // J, E0 (energy verdicts)
+
+    bool exploded() const { return status == Status::exploded; }
+    // "rope: exploded at frame 37: particle 12 speed 4.1e+06 m/s > 500 m/s"
+    std::string message(std::string_view scene) const;
+};
+
+// The first violation in a fixed order: non-finite position, non-finite
+// velocity, speed, bounds (lowest particle index first), then energy. `energy`
+// is only read when limits.energy_growth > 0.
+Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
+              std::uint64_t frame);
+
+}  // namespace sim

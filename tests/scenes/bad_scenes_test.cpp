@@ -1,0 +1,144 @@
+// The malformed scene corpus (tests/data/bad_scenes/): every file makes
+// `plausible run FILE --csv OUT` exit 2 with a message that names the file and
+// the line, says what was wrong, and writes nothing.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BadScene {
+    const char* file;      // under tests/data/bad_scenes/
+    int line;              // where the message must point
+    const char* expected;  // a fragment of the message
+};
+
+// Each file's expected line and message fragment (the corpus has no other
+// place for them: some files are empty or binary).
+constexpr BadScene kCorpus[] = {
+    {"empty.toml", 1, "the file is empty"},
+    {"syntax_unterminated_string.toml", 1, "not valid TOML"},
+    {"syntax_bad_header.toml", 2, "not valid TOML"},
+    {"binary_garbage.toml", 0, "not valid TOML"},
+    {"not_utf8.toml", 1, "not valid TOML"},
+    {"missing_description.toml", 1, "description is required"},
+    {"no_particles.toml", 1, "a scene needs at least one [[particles]]"},
+    {"unknown_top_key.toml", 2, "unknown key 'frame' (did you mean 'frames'?)"},
+    {"unknown_spring_key.toml", 11, "unknown key 'forces.springs[0].stiffnes' (did you mean 'stiffness'?)"},
+    {"negative_mass.toml", 4, "particles[0].mass must be > 0 and finite, in kg (got -2)"},
+    {"zero_mass.toml", 4, "particles[0].mass must be > 0 and finite, in kg (got 0)"},
+    {"negative_stiffness.toml", 12, "forces.springs[0].stiffness must be >= 0 and finite, in N/m (got -3)"},
+    {"dt_zero.toml", 3, "step.dt must be > 0 and at most 10, in s (got 0)"},
+    {"dt_negative.toml", 3, "step.dt must be > 0 and at most 10, in s (got -0.01)"},
+    {"dt_nan.toml", 3, "step.dt must be > 0 and at most 10, in s (got nan)"},
+    {"position_inf.toml", 3, "particles[0].position[1] must be [x, y, z]"},
+    {"velocity_nan.toml", 4, "particles[0].velocity[0] must be [x, y, z]"},
+    {"mass_wrong_type.toml", 4, "particles[0].mass must be > 0 and finite, in kg (got the string 'heavy')"},
+    {"position_two_components.toml", 3, "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 2)"},
+    {"unknown_integrator.toml", 3, "step.integrator must be one of forward_euler"},
+    {"substeps_zero.toml", 3, "step.substeps must be within 1 .. 10000 (got 0)"},
+    {"spring_missing_particle.toml", 7, "forces.springs[0].b names no particle (got 'ghost')"},
+    {"spring_index_out_of_range.toml", 8, "forces.springs[0].b must be a particle index within 0 .. 1 (got 7)"},
+    {"spring_to_itself.toml", 7, "forces.springs[0].b must be another particle than a"},
+    {"duplicate_name.toml", 6, "particles[1].name must be unique: 'ball' is taken"},
+    {"huge_group.toml", 3, "groups[0].count must be within 1 .. 1000000 (got 1000000000)"},
+    {"huge_array.toml", 3, "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 100000)"},
+    {"checkpoint_beyond_end.toml", 3, "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 90)"},
+    {"checkpoints_descending.toml", 3, "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 20)"},
+    {"ghost_missing_particle.toml", 8, "ghosts[0].particle names no particle (got 'bal')"},
+    {"ghost_wrong_solution.toml", 11, "ghosts[0].solution 'ballistic' needs uniform gravity and no drag"},
+    {"bad_color.toml", 4, "particles[0].color must be \"#rrggbb\" or [r, g, b]"},
+    {"watchdog_negative_speed.toml", 3, "watchdog.max_speed must be > 0 and finite, in m/s (got -500)"},
+    {"camera_eye_is_target.toml", 4, "camera.target must differ from camera.eye"},
+    {"frames_float.toml", 2, "frames must be an integer within 1 .. 10000000 (got 10.5)"},
+    {"particles_not_array.toml", 2, "particles must be an array of tables"},
+};
+
+struct Result {
+    int exit_code = -1;
+    std::string err;
+};
+
+Result run(const std::string& args, const fs::path& dir) {
+    const fs::path err = dir / "stderr.txt";
+    const std::string command = std::string("'") + PLAUSIBLE_EXE + "' " + args + " 2>'" + err.string() + "' >/dev/null";
+    const int status = std::system(command.c_str());
+    Result r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(err);
+    r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    fs::remove(err);
+    return r;
+}
+
+class BadSceneCorpus : public ::testing::TestWithParam<BadScene> {};
+
+TEST_P(BadSceneCorpus, ExitsTwoWithFileLineAndWritesNothing) {
+    const BadScene& bad = GetParam();
+    const fs::path file = fs::path(PLAUSIBLE_SOURCE_DIR) / "tests/data/bad_scenes" / bad.file;
+    ASSERT_TRUE(fs::exists(file)) << file;
+    const char* root = std::getenv("PLAUSIBLE_TEST_RESULTS");
+    const fs::path dir = fs::path(root != nullptr ? root : fs::temp_directory_path().string()) / "bad_scenes" / bad.file;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const Result r = run("run '" + file.string() + "' --csv '" + (dir / "out.csv").string() + "'", dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    const std::string where = file.string() + ":" + (bad.line > 0 ? std::to_string(bad.line) + ":" : "");
+    EXPECT_NE(r.err.find(where), std::string::npos) << "expected '" << where << "' in: " << r.err;
+    EXPECT_NE(r.err.find(bad.expected), std::string::npos) << "expected '" << bad.expected << "' in: " << r.err;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 0) << "something was written";
+    // The same file through render: nothing written there either.
+    const Result rendered = run("render '" + file.string() + "' --out '" + (dir / "frames").string() + "'", dir);
+    EXPECT_EQ(rendered.exit_code, 2) << rendered.err;
+    EXPECT_FALSE(fs::exists(dir / "frames"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, BadSceneCorpus, ::testing::ValuesIn(kCorpus), [](const auto& info) {
+    std::string name = info.param.file;
+    name = name.substr(0, name.find('.'));
+    return name;
+});
+
+TEST(BadSceneCorpus, EveryFileOfTheCorpusIsListed) {
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(PLAUSIBLE_SOURCE_DIR) / "tests/data/bad_scenes")) {
+        ++files;
+        bool listed = false;
+        for (const BadScene& b : kCorpus) listed = listed || entry.path().filename() == b.file;
+        EXPECT_TRUE(listed) << entry.path() << " has no expectation in kCorpus";
+    }
+    EXPECT_GE(files, 25u);
+}
+
+TEST(SetOverrides, BadValuesNameTheOverride) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_set_test";
+    fs::create_directories(dir);
+    Result r = run("run oscillator --set step.dt=-1", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--set step.dt=-1: step.dt must be"), std::string::npos) << r.err;
+    r = run("run oscillator --set forces.springs[3].stiffness=1", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("'forces.springs' has 1 entries"), std::string::npos) << r.err;
+    r = run("run oscillator --set particles[1].mas=2", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("did you mean 'mass'?"), std::string::npos) << r.err;
+    r = run("run oscillator --integrator rk5", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("step.integrator must be one of"), std::string::npos) << r.err;
+    r = run("run no_such_scene", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("unknown scene 'no_such_scene'"), std::string::npos) << r.err;
+    fs::remove_all(dir);
+}
+
+}  // namespace

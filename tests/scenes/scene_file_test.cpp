@@ -1,0 +1,114 @@
+// Scene files: a good scene parses into what it says, overrides go through
+// the same checks, ghosts come out as the closed forms of the scene's own
+// parameters, and the shipped catalogue loads.
+#include "scenes/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace scenes {
+namespace {
+
+constexpr const char* kSpring = R"(
+description = "A mass on a spring."
+frames = 120
+checkpoints = [0, 60, 120]
+[step]
+integrator = "rk4"
+dt = 0.01
+substeps = 2
+[[particles]]
+name = "anchor"
+position = [0, 1, 0]
+pinned = true
+[[particles]]
+name = "bob"
+position = [0.5, 1, 0]
+velocity = [0, 0.2, 0]
+mass = 2
+color = "#ff8000"
+[[forces.springs]]
+a = "anchor"
+b = 1
+rest_length = 0
+stiffness = 8
+[[ghosts]]
+particle = "bob"
+solution = "oscillator"
+anchor = "anchor"
+)";
+
+TEST(SceneFile, ParsesWhatItSays) {
+    const SceneDef s = parse_scene(kSpring, "spring.toml");
+    EXPECT_EQ(s.name, "spring");
+    EXPECT_EQ(s.frames, 120);
+    EXPECT_EQ(s.checkpoints, (std::vector<int>{0, 60, 120}));
+    EXPECT_EQ(s.step.integrator, sim::Integrator::rk4);
+    EXPECT_DOUBLE_EQ(s.step.dt, 0.01);
+    EXPECT_EQ(s.step.substeps, 2);
+    ASSERT_EQ(s.model.particles.size(), 2u);
+    EXPECT_TRUE(s.model.particles[0].pinned);
+    EXPECT_DOUBLE_EQ(s.model.particles[1].mass, 2.0);
+    EXPECT_FLOAT_EQ(s.looks[1].color.g, 128.0f / 255.0f);
+    EXPECT_EQ(s.particle_names[1], "bob");
+    EXPECT_EQ(s.systems(), (std::vector<std::string>{"particles", "springs", "watchdog"}));
+}
+
+TEST(SceneFile, OscillatorGhostIsTheClosedFormAboutTheAnchor) {
+    const SceneDef s = parse_scene(kSpring, "spring.toml");
+    ASSERT_EQ(s.ghosts.size(), 1u);
+    const Ghost& g = s.ghosts[0];
+    EXPECT_EQ(g.particle, 1u);
+    // ω = sqrt(k/m) = 2 rad/s: x(t) = anchor + x0 cos ωt + v0/ω sin ωt, independently of the loader's derivation.
+    for (double t : {0.0, 0.3, 1.7}) {
+        const sim::Vec3 expected = sim::Vec3(0, 1, 0) + sim::Vec3(0.5, 0, 0) * std::cos(2 * t) +
+                                   sim::Vec3(0, 0.2, 0) / 2.0 * std::sin(2 * t);
+        EXPECT_LT((g.exact(t).x - expected).norm(), 1e-12) << "m, at t = " << t << " s";
+    }
+}
+
+TEST(SceneFile, OverridesGoThroughTheSameChecks) {
+    const SceneDef s = parse_scene(kSpring, "spring.toml",
+                                   {{"step.dt", "0.005"}, {"forces.springs[0].stiffness", "50"}, {"watchdog.max_speed", "7"}});
+    EXPECT_DOUBLE_EQ(s.step.dt, 0.005);
+    EXPECT_DOUBLE_EQ(std::get<sim::Springs>(s.model.forces[0]).list[0].k, 50.0);
+    EXPECT_DOUBLE_EQ(s.watchdog.max_speed, 7.0);
+    try {
+        parse_scene(kSpring, "spring.toml", {parse_override("particles[1].mass=-1")});
+        FAIL();
+    } catch (const SceneError& e) {
+        EXPECT_STREQ(e.what(), "--set particles[1].mass=-1: particles[1].mass must be > 0 and finite, in kg (got -1)");
+    }
+    EXPECT_THROW(parse_override("step.dt"), SceneError);
+    EXPECT_THROW(parse_scene(kSpring, "spring.toml", {{"step.integrator", "rk4"}}), SceneError) << "unquoted string";
+}
+
+TEST(SceneFile, ErrorsNameFileLineAndColumn) {
+    try {
+        parse_scene("description = \"x\"\n[[particles]]\nposition = [0, 0, 0]\nmass = -3\n", "dir/bad.toml");
+        FAIL();
+    } catch (const SceneError& e) {
+        EXPECT_STREQ(e.what(), "dir/bad.toml:4:8: particles[0].mass must be > 0 and finite, in kg (got -3)");
+    }
+}
+
+TEST(SceneFile, ShippedCatalogueLoads) {
+    const auto names = catalog();
+    ASSERT_GE(names.size(), 4u);
+    EXPECT_EQ(names.front(), "orbit");
+    for (const std::string& name : names) {
+        const SceneDef s = load_scene(resolve_scene(name));
+        EXPECT_EQ(s.name, name);
+        EXPECT_FALSE(s.description.empty());
+        EXPECT_FALSE(s.ghosts.empty()) << name << " shows its closed form";
+        for (const Ghost& g : s.ghosts) {
+            const sim::Vec3 x0 = s.model.particles[g.particle].position;
+            EXPECT_LT((g.exact(0.0).x - x0).norm(), 1e-9) << name << ": the ghost starts on the particle, m";
+        }
+    }
+    EXPECT_THROW(resolve_scene("nope"), SceneError);
+}
+
+}  // namespace
+}  // namespace scenes
