@@ -72,6 +72,10 @@ void write_png(const std::filesystem::path& path, const Image& image) {
                                image.width * image.channels) == 0) {
         throw RenderError(ErrorKind::bad_input, path.string() + ": the PNG encoder failed");
     }
+    write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+}
+
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
     const std::filesystem::path temp = path.string() + ".tmp-" + std::to_string(getpid());
     auto fail = [&](const std::string& reason) {
         std::error_code ignored;
@@ -80,7 +84,7 @@ void write_png(const std::filesystem::path& path, const Image& image) {
     };
     std::FILE* file = std::fopen(temp.c_str(), "wb");
     if (file == nullptr) throw fail(std::strerror(errno));
-    const bool written = std::fwrite(png.data(), 1, png.size(), file) == png.size();
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
     const int write_errno = errno;
     const bool closed = std::fclose(file) == 0;
     if (!written || !closed) throw fail(std::strerror(written ? errno : write_errno));

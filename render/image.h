@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace render {
@@ -41,6 +42,11 @@ struct Image {
 // A width x height image filled with one colour. Throws RenderError(bad_input)
 // for a size <= 0 or above 16384, or channels other than 3 or 4.
 Image make_image(int width, int height, int channels, Rgba8 fill);
+
+// Writes bytes atomically: into "<path>.tmp-<pid>" in the same folder, then
+// renamed over `path`, so a reader never sees half a file. On failure the
+// temporary file is removed and RenderError(bad_input) names the path.
+void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
 
 // Writes a PNG atomically: into "<path>.tmp-<pid>" in the same folder, then
 // renamed over `path`. On any failure the temporary file is removed, `path` is

@@ -5,7 +5,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -29,25 +28,6 @@ json fingerprint_json(const render::Fingerprint& f) {
                 {"summary", f.summary()}};
 }
 
-// Writes text atomically: a temporary file in the same folder, then a rename.
-void write_text_atomically(const fs::path& path, const std::string& text) {
-    const fs::path temp = path.string() + ".tmp-" + std::to_string(getpid());
-    {
-        std::ofstream out(temp, std::ios::binary);
-        out << text;
-        if (!out.flush()) {
-            std::error_code ignored;
-            fs::remove(temp, ignored);
-            throw render::RenderError(render::ErrorKind::bad_input, "cannot write " + path.string());
-        }
-    }
-    std::error_code error;
-    fs::rename(temp, path, error);
-    if (error) {
-        fs::remove(temp, error);
-        throw render::RenderError(render::ErrorKind::bad_input, "cannot write " + path.string() + ": " + error.message());
-    }
-}
 
 // The thresholds a golden file asks for (with the reason when they differ
 // from the defaults), or the defaults.
@@ -85,7 +65,7 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
                    {"fingerprint", fingerprint_json(fingerprint)}};
     if (previous.contains("thresholds_reason")) golden["thresholds_reason"] = previous["thresholds_reason"];
     render::write_png(dir / (scene.name + ".png"), strip.image);
-    write_text_atomically(dir / (scene.name + ".json"), golden.dump(2) + "\n");
+    render::write_file_atomically(dir / (scene.name + ".json"), golden.dump(2) + "\n");
 }
 
 }  // namespace

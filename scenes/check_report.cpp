@@ -2,7 +2,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -34,24 +33,6 @@ std::string escape(const std::string& text) {
     return out;
 }
 
-void write_atomically(const fs::path& path, const std::string& text) {
-    const fs::path temp = path.string() + ".tmp-" + std::to_string(getpid());
-    {
-        std::ofstream out(temp, std::ios::binary);
-        out << text;
-        if (!out.flush()) {
-            std::error_code ignored;
-            fs::remove(temp, ignored);
-            throw std::runtime_error("cannot write " + path.string());
-        }
-    }
-    std::error_code error;
-    fs::rename(temp, path, error);
-    if (error) {
-        fs::remove(temp, error);
-        throw std::runtime_error("cannot write " + path.string() + ": " + error.message());
-    }
-}
 
 nlohmann::json to_json(const SceneCheck& c) {
     nlohmann::json j = {{"scene", c.scene},
@@ -188,8 +169,8 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
     html << "</div>\n";
     for (const SceneCheck* c : order) html << scene_html(*c);
     html << "<script>" << kScript << "</script>\n</body></html>\n";
-    write_atomically(dir / "report.json", report.dump(2) + "\n");
-    write_atomically(dir / "index.html", html.str());
+    render::write_file_atomically(dir / "report.json", report.dump(2) + "\n");
+    render::write_file_atomically(dir / "index.html", html.str());
 }
 
 }  // namespace scenes
