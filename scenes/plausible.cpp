@@ -245,7 +245,9 @@ int render_scene(const SceneOptions& options, const RenderOptions& r) {
         if (run.verdict().exploded()) break;
     }
     const fs::path sheet = fs::path(r.out) / (scene.name + "_sheet.png");
-    render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font()));
+    render::SheetOptions sheet_options;
+    sheet_options.label_size = std::max(14.0f, static_cast<float>(h) / 28.0f);  // px, readable beside large frames
+    render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font(), sheet_options));
     std::printf("%s\n", sheet.c_str());
     if (run.verdict().exploded()) {
         std::printf("%s\n", run.verdict().message(scene.name).c_str());
