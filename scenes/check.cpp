@@ -5,7 +5,6 @@
 
 #include <nlohmann/json.hpp>
 
-
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -23,14 +22,14 @@ std::string format_time(double t) {
 }
 
 json fingerprint_json(const render::Fingerprint& f) {
-    return json{{"backend", f.backend},   {"vendor", f.vendor},     {"renderer", f.renderer},
-                {"version", f.version},   {"cpu_simd", f.cpu_simd}, {"gl_threads", f.gl_threads},
+    return json{{"backend", f.backend},  {"vendor", f.vendor},     {"renderer", f.renderer},
+                {"version", f.version},  {"cpu_simd", f.cpu_simd}, {"gl_threads", f.gl_threads},
                 {"summary", f.summary()}};
 }
 
-
-// The thresholds a golden file asks for (with the reason when they differ
-// from the defaults), or the defaults.
+// The thresholds a golden file asks for, or the defaults. Thresholds other
+// than the defaults need a "thresholds_reason": a looser metric is a decision
+// someone has to be able to read later.
 render::GoldenThresholds thresholds_from(const json& golden, const fs::path& file) {
     render::GoldenThresholds t;
     if (!golden.contains("thresholds")) return t;
@@ -43,6 +42,16 @@ render::GoldenThresholds thresholds_from(const json& golden, const fs::path& fil
     } catch (const std::exception& e) {
         throw SceneError(file.string() + ": thresholds: " + e.what());
     }
+    const render::GoldenThresholds defaults;
+    const bool custom = t.small_max_d != defaults.small_max_d || t.small_share != defaults.small_share ||
+                        t.large_share != defaults.large_share;
+    const bool has_reason = golden.contains("thresholds_reason") && golden["thresholds_reason"].is_string() &&
+                            !golden["thresholds_reason"].get<std::string>().empty();
+    if (custom && !has_reason) {
+        throw SceneError(file.string() +
+                         ": thresholds differ from the defaults (small_max_d 3, small_share 0.05, large_share "
+                         "0.0001) but \"thresholds_reason\" is missing: say why this scene needs them");
+    }
     return t;
 }
 
@@ -53,8 +62,11 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
     for (std::size_t i = 0; i < strip.frames.size(); ++i) {
         checkpoints.push_back({{"frame", strip.frames[i]}, {"time", strip.times[i]}, {"state_hash", strip.hashes[i]}});
     }
+    const render::GoldenThresholds defaults;
     json thresholds = previous.contains("thresholds") ? previous["thresholds"]
-                                                      : json{{"small_max_d", 3}, {"small_share", 0.05}, {"large_share", 0.0001}};
+                                                      : json{{"small_max_d", defaults.small_max_d},
+                                                             {"small_share", defaults.small_share},
+                                                             {"large_share", defaults.large_share}};
     json golden = {{"scene", scene.name},
                    {"integrator", std::string(sim::integrator_info(scene.step.integrator).name)},
                    {"dt", scene.step.dt},
@@ -77,8 +89,8 @@ Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, co
     SceneRun run(scene);
     std::vector<render::Image> tiles;
     std::vector<std::string> labels;
-    const render::RenderSettings render_settings{.width = settings.width, .height = settings.height,
-                                                 .msaa_samples = settings.msaa};
+    const render::RenderSettings render_settings{
+        .width = settings.width, .height = settings.height, .msaa_samples = settings.msaa};
     for (int checkpoint : scene.checkpoints) {
         while (run.frame() < checkpoint && run.advance()) {
         }
@@ -147,7 +159,8 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, cons
                 h.actual = strip.hashes[i];
                 if (i < expected_checkpoints.size()) {
                     const json& e = expected_checkpoints[i];
-                    h.expected = e.value("frame", -1) == h.frame ? e.value("state_hash", "") : "frame " + std::to_string(e.value("frame", -1));
+                    h.expected = e.value("frame", -1) == h.frame ? e.value("state_hash", "")
+                                                                 : "frame " + std::to_string(e.value("frame", -1));
                 }
                 if (c.first_hash_mismatch < 0 && h.expected != h.actual) c.first_hash_mismatch = static_cast<int>(i);
                 c.hashes.push_back(h);
@@ -167,7 +180,8 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, cons
                     c.image = render::compare_golden(strip.image, expected, thresholds_from(previous, golden_json));
                     if (!c.image->size_mismatch) {
                         c.diff_png = keep("diff.png", c.image->diff);
-                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff, render::Font::default_font()));
+                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff,
+                                                                           render::Font::default_font()));
                     }
                 }
             } else if (!have_golden) {
@@ -191,8 +205,8 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, cons
                 } else {
                     const int i = c.first_hash_mismatch;
                     const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
-                    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
-                                "): state hash differs; image " + c.image->summary;
+                    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " +
+                                std::to_string(frame) + "): state hash differs; image " + c.image->summary;
                 }
                 if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
                     c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;

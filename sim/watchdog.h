@@ -42,8 +42,9 @@ struct Verdict {
     std::string message(std::string_view scene) const;
 };
 
-// The first violation in a fixed order: non-finite position, non-finite
-// velocity, speed, bounds (lowest particle index first), then energy. `energy`
+// The first violation in a fixed order: a non-finite state (the lowest
+// particle index first; its position before its velocity), then speed, then
+// bounds (lowest index first), then energy. `energy`
 // is only read when limits.energy_growth > 0.
 Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
               std::uint64_t frame);

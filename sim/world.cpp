@@ -52,6 +52,28 @@ ParticleState& World::edit_state() {
     return state_;
 }
 
+World::Snapshot World::snapshot() const {
+    return {state_,    memory_a_, memory_x_prev_, memory_valid_,   memory_integrator_,
+            memory_h_, steps_,    frames_,        initial_energy_, verdict_};
+}
+
+void World::restore(const Snapshot& snapshot) {
+    if (snapshot.state.size() != state_.size()) {
+        throw InputError("snapshot has " + std::to_string(snapshot.state.size()) + " particles, the world has " +
+                         std::to_string(state_.size()));
+    }
+    state_ = snapshot.state;
+    memory_a_ = snapshot.memory_a;
+    memory_x_prev_ = snapshot.memory_x_prev;
+    memory_valid_ = snapshot.memory_valid;
+    memory_integrator_ = snapshot.memory_integrator;
+    memory_h_ = snapshot.memory_h;
+    steps_ = snapshot.steps;
+    frames_ = snapshot.frames;
+    initial_energy_ = snapshot.initial_energy;
+    verdict_ = snapshot.verdict;
+}
+
 void World::step(const StepSettings& settings) {
     validate(settings);
     if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it

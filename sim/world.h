@@ -67,6 +67,26 @@ public:
     // rebuilds the integrator's memory from the edited state.
     ParticleState& edit_state();
 
+    // Everything that steps, integrator memory included: restoring a snapshot
+    // and stepping gives the same bits as the run that made it (the lecture:
+    // to go back in time accurately, store states; Euler does not run
+    // backwards). Timings and force-evaluation counts are not rewound.
+    struct Snapshot {
+        ParticleState state;
+        Vec3Array memory_a;
+        Vec3Array memory_x_prev;
+        bool memory_valid = false;
+        Integrator memory_integrator = Integrator::symplectic_euler;
+        double memory_h = 0.0;
+        std::uint64_t steps = 0;
+        std::uint64_t frames = 0;
+        double initial_energy = 0.0;
+        Verdict verdict;
+    };
+    Snapshot snapshot() const;
+    // Throws InputError when the snapshot is of another model (particle count).
+    void restore(const Snapshot& snapshot);
+
     double kinetic_energy() const;    // ½ Σ m v², J
     double potential_energy() const;  // every force's potential, J
     double energy() const { return kinetic_energy() + potential_energy(); }

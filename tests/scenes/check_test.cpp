@@ -9,13 +9,17 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 namespace scenes {
 namespace {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
 
 fs::path results(const std::string& name) {
     const char* root = std::getenv("PLAUSIBLE_TEST_RESULTS");
@@ -51,8 +55,9 @@ TEST_F(CheckTest, ForwardEulerAtEightTimesTheStepExplodesAndFails) {
     options.update = UpdateMode::changed;  // even when asked, an exploded scene is never blessed
     options.golden_dir = golden;
     options.report_dir = report;
-    const auto r = check_scenes({"oscillator"}, {{"step.dt", "0.13333333333333333"}, {"step.integrator", "\"forward_euler\""}},
-                                options, *renderer_, context_->fingerprint());
+    const auto r =
+        check_scenes({"oscillator"}, {{"step.dt", "0.13333333333333333"}, {"step.integrator", "\"forward_euler\""}},
+                     options, *renderer_, context_->fingerprint());
     ASSERT_EQ(r.size(), 1u);
     EXPECT_EQ(r[0].status, SceneCheck::Status::exploded) << r[0].message;
     EXPECT_NE(r[0].message.find("oscillator: exploded at frame"), std::string::npos) << r[0].message;
@@ -96,6 +101,120 @@ TEST_F(CheckTest, SameSceneTwiceInOneProcessGivesTheSameHashesAndBytes) {
         EXPECT_EQ(a.image.pixels, b.image.pixels) << name;
         EXPECT_FALSE(a.verdict.exploded()) << a.verdict.message(name);
     }
+}
+
+// A scratch golden directory holding copies of the shipped goldens of `names`.
+fs::path golden_copy(const fs::path& dir, const std::vector<std::string>& names) {
+    fs::create_directories(dir);
+    for (const std::string& name : names) {
+        for (const char* ext : {".png", ".json"}) {
+            fs::copy_file(default_golden_dir() / (name + ext), dir / (name + ext));
+        }
+    }
+    return dir;
+}
+
+// Paints a 40 x 40 px red square into a golden image: 1600 pixels with a large
+// error, about 0.3% of a four-tile strip, above the default 0.01%.
+void tamper(const fs::path& png) {
+    render::Image image = render::read_png(png, 3);
+    for (int y = 100; y < 140; ++y) {
+        for (int x = 100; x < 140; ++x) {
+            std::uint8_t* p = image.at(x, y);
+            p[0] = 255;
+            p[1] = 0;
+            p[2] = 0;
+        }
+    }
+    render::write_png(png, image);
+}
+
+json read_json(const fs::path& file) {
+    std::ifstream in(file);
+    return json::parse(in);
+}
+
+void write_json(const fs::path& file, const json& j) { std::ofstream(file) << j.dump(2) << "\n"; }
+
+TEST_F(CheckTest, PerSceneThresholdsNeedAReasonAndAreApplied) {
+    const fs::path report = results("thresholds");
+    const fs::path golden = golden_copy(report / "golden", {"ballistic"});
+    tamper(golden / "ballistic.png");
+    CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
+
+    auto r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    ASSERT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+    EXPECT_EQ(r[0].message.rfind("rendering changed, physics identical", 0), 0u) << r[0].message;
+    ASSERT_TRUE(r[0].image.has_value());
+    EXPECT_EQ(r[0].image->large_pixels, 1600u) << "40 x 40 px painted over";
+    EXPECT_EQ(r[0].image->large_box.x0, 100);
+    EXPECT_EQ(r[0].image->large_box.y1, 140) << "half-open box";
+
+    // Looser thresholds without a reason are refused...
+    json j = read_json(golden / "ballistic.json");
+    j["thresholds"]["large_share"] = 0.01;
+    write_json(golden / "ballistic.json", j);
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::error);
+    EXPECT_NE(r[0].message.find("\"thresholds_reason\" is missing"), std::string::npos) << r[0].message;
+
+    // ...and with one they apply: 0.3% of large errors is now within 1%.
+    j["thresholds_reason"] = "test: a 40 px square is tolerated";
+    write_json(golden / "ballistic.json", j);
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+}
+
+TEST_F(CheckTest, UpdateChangedRewritesOnlyTheFailingScenes) {
+    const fs::path report = results("update-changed");
+    const fs::path golden = golden_copy(report / "golden", {"ballistic", "pendulum"});
+    tamper(golden / "pendulum.png");
+    json reasoned = read_json(golden / "pendulum.json");
+    reasoned["thresholds"]["small_share"] = 0.06;
+    reasoned["thresholds_reason"] = "test: kept across a rewrite";
+    write_json(golden / "pendulum.json", reasoned);
+    const auto untouched_png = fs::last_write_time(golden / "ballistic.png");
+    const auto untouched_json = fs::last_write_time(golden / "ballistic.json");
+
+    // `missing` leaves a failing golden alone (and fails).
+    CheckOptions options{.update = UpdateMode::missing, .golden_dir = golden, .report_dir = report};
+    auto r = check_scenes({"ballistic", "pendulum"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+    EXPECT_EQ(r[1].status, SceneCheck::Status::fail) << r[1].message;
+
+    options.update = UpdateMode::changed;
+    r = check_scenes({"ballistic", "pendulum"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+    EXPECT_EQ(r[1].status, SceneCheck::Status::updated) << r[1].message;
+    EXPECT_EQ(fs::last_write_time(golden / "ballistic.png"), untouched_png) << "a passing golden is not rewritten";
+    EXPECT_EQ(fs::last_write_time(golden / "ballistic.json"), untouched_json);
+    // The rewritten golden is what the shipped one is (rendering is
+    // deterministic), and the scene's own thresholds and reason survive.
+    EXPECT_EQ(render::read_png(golden / "pendulum.png", 3).pixels,
+              render::read_png(default_golden_dir() / "pendulum.png", 3).pixels);
+    const json after = read_json(golden / "pendulum.json");
+    EXPECT_EQ(after["thresholds_reason"], "test: kept across a rewrite");
+    EXPECT_EQ(after["thresholds"]["small_share"], 0.06);
+
+    options.update = UpdateMode::none;
+    r = check_scenes({"ballistic", "pendulum"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass);
+    EXPECT_EQ(r[1].status, SceneCheck::Status::pass) << r[1].message;
+}
+
+TEST_F(CheckTest, AMissingGoldenIsNotAPassAndUpdateMissingWritesIt) {
+    const fs::path report = results("missing");
+    const fs::path golden = report / "golden";
+    fs::create_directories(golden);
+    CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
+    auto r = check_scenes({"orbit"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::missing);
+    EXPECT_FALSE(fs::exists(golden / "orbit.png")) << "nothing is blessed without --update";
+    options.update = UpdateMode::missing;
+    r = check_scenes({"orbit"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::updated);
+    EXPECT_EQ(read_json(golden / "orbit.json")["checkpoints"],
+              read_json(default_golden_dir() / "orbit.json")["checkpoints"]);
 }
 
 }  // namespace
