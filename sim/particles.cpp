@@ -34,6 +34,9 @@ void validate_particles(const std::vector<ParticleDef>& particles) {
         if (!is_finite(p.position)) {
             throw InputError(name + ".position must be finite, in m (got " + format_vec(p.position) + ")");
         }
+        if (!(p.radius >= 0.0) || !std::isfinite(p.radius)) {
+            throw InputError(name + ".radius must be >= 0 and finite, in m (got " + format_value(p.radius) + ")");
+        }
         if (!is_finite(p.velocity)) {
             throw InputError(name + ".velocity must be finite, in m/s (got " + format_vec(p.velocity) + ")");
         }

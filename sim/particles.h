@@ -15,6 +15,7 @@ struct ParticleDef {
     Vec3 velocity = Vec3::Zero();  // m/s (ignored and zero when pinned)
     double mass = 1.0;             // kg, > 0 and finite (pinned ones too: forces read it)
     bool pinned = false;           // a pinned particle never moves (inverse mass 0)
+    double radius = 0.0;           // m, >= 0: its sphere for collisions (0: a point)
 };
 
 // The mutable state of n particles. Everything here is plain arrays indexed by

@@ -2,6 +2,7 @@
 
 #include "sim/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -27,6 +28,17 @@ Vec3 spring_force(const Spring& s, const Vec3& xi, const Vec3& xj, const Vec3& v
 }
 
 void validate(const Springs& springs, std::size_t particle_count) {
+    const Plasticity& p = springs.plasticity;
+    if (!(p.yield_strain >= 0.0 && p.yield_strain < 1.0)) {
+        throw InputError("springs.plasticity.yield_strain must be within 0 .. 1 (got " + format_value(p.yield_strain) +
+                         ")");
+    }
+    if (!(p.creep >= 0.0) || !std::isfinite(p.creep)) {
+        throw InputError("springs.plasticity.creep must be >= 0 and finite, in 1/s (got " + format_value(p.creep) + ")");
+    }
+    if (!(p.max_strain >= 0.0 && p.max_strain < 1.0)) {
+        throw InputError("springs.plasticity.max_strain must be within 0 .. 1 (got " + format_value(p.max_strain) + ")");
+    }
     for (std::size_t index = 0; index < springs.list.size(); ++index) {
         const Spring& s = springs.list[index];
         const std::string name = "springs[" + std::to_string(index) + "]";
@@ -47,6 +59,25 @@ void validate(const Springs& springs, std::size_t particle_count) {
             throw InputError(name + ".c must be >= 0 and finite, in N·s/m (got " + format_value(s.c) + ")");
         }
     }
+}
+
+double apply_plasticity(Springs& springs, const std::vector<double>& rest0, ConstVec3Span x, double h) {
+    const Plasticity& p = springs.plasticity;
+    if (!p.enabled()) return 0.0;
+    const double rate = std::min(1.0, p.creep * h);
+    double largest = 0.0;
+    for (std::size_t k = 0; k < springs.list.size(); ++k) {
+        Spring& s = springs.list[k];
+        if (s.rest <= 0.0) continue;  // zero-length springs have no strain to yield
+        const double length = (x.get(s.j) - x.get(s.i)).norm();
+        const double strain = (length - s.rest) / s.rest;
+        if (std::abs(strain) <= p.yield_strain) continue;
+        const double before = s.rest;
+        s.rest += rate * (length - s.rest) * (1.0 - p.yield_strain / std::abs(strain));
+        s.rest = std::clamp(s.rest, rest0[k] * (1.0 - p.max_strain), rest0[k] * (1.0 + p.max_strain));
+        largest = std::max(largest, std::abs(s.rest - before));
+    }
+    return largest;
 }
 
 void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f) {

@@ -19,10 +19,32 @@ struct Spring {
     double c = 0.0;       // damping along the spring, N·s/m (>= 0)
 };
 
+// Plastic springs (the lecture: "dynamically change rest-length in response
+// to large compression/stretching"): after each substep of h, a spring whose
+// strain s = (|d| - rest) / rest exceeds the yield strain creeps towards its
+// current length,
+//   rest += creep h (|d| - rest) (1 - yield / |s|),
+// and never leaves [rest0 (1 - max_strain), rest0 (1 + max_strain)], rest0
+// being the rest length the body was built with. Below the yield it is
+// elastic: a dented cube stays dented, a lightly poked one springs back.
+struct Plasticity {
+    double yield_strain = 0.0;  // strain (0..1) above which rest lengths creep; 0: elastic springs
+    double creep = 0.0;         // 1/s, how fast the rest length follows (creep h <= 1)
+    double max_strain = 0.5;    // largest permanent change of a rest length, as a fraction of rest0
+
+    bool enabled() const { return yield_strain > 0.0 && creep > 0.0; }
+};
+
 // All springs of a system, evaluated in one pass.
 struct Springs {
     std::vector<Spring> list;
+    Plasticity plasticity;
 };
+
+// The plastic update of every spring after a substep of h (see Plasticity),
+// with rest0 the built rest lengths (one per spring). Returns the largest
+// rest-length change, m.
+double apply_plasticity(Springs& springs, const std::vector<double>& rest0, ConstVec3Span x, double h);
 
 // Force on particle i of spring s (particle j gets the opposite), N. Safe at
 // zero length: with ℓ = 0 it is k d (no division); with ℓ > 0 and the two

@@ -13,6 +13,8 @@ namespace sim {
 void validate(const ParticleModel& model) {
     validate_particles(model.particles);
     validate_forces(model.forces, model.particles.size());
+    validate(model.constraints, model.particles.size());
+    validate(model.collisions);
 }
 
 void validate(const StepSettings& settings) {
@@ -36,8 +38,17 @@ ParticleModel validated(ParticleModel model) {
 World::World(ParticleModel model)
     : model_(validated(std::move(model))),
       state_(make_state(model_.particles)),
-      forces_(model_.forces, state_.mass, state_.inv_mass) {
+      live_forces_(model_.forces),
+      forces_(live_forces_, state_.mass, state_.inv_mass) {
     scratch_.resize(kMaxScratch);
+    rest0_.resize(live_forces_.size());
+    for (std::size_t k = 0; k < live_forces_.size(); ++k) {
+        if (const auto* springs = std::get_if<Springs>(&live_forces_[k]); springs && springs->plasticity.enabled()) {
+            for (const Spring& sp : springs->list) rest0_[k].push_back(sp.rest);
+        }
+    }
+    radius_.reserve(model_.particles.size());
+    for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
     initial_energy_ = energy();
 }
 
@@ -72,6 +83,11 @@ void World::restore(const Snapshot& snapshot) {
     frames_ = snapshot.frames;
     initial_energy_ = snapshot.initial_energy;
     verdict_ = snapshot.verdict;
+    std::size_t next = 0;
+    for (std::size_t k = 0; k < live_forces_.size(); ++k) {
+        if (rest0_[k].empty()) continue;
+        for (Spring& sp : std::get<Springs>(live_forces_[k]).list) sp.rest = snapshot.plastic_rest.at(next++);
+    }
 }
 
 void World::step(const StepSettings& settings) {
@@ -80,17 +96,66 @@ void World::step(const StepSettings& settings) {
     ++frames_;
     using Clock = std::chrono::steady_clock;
     const double h = settings.dt / settings.substeps;
+    const bool constrained = !model_.constraints.empty();
+    const bool colliding = !model_.collisions.empty();
+    const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
+    auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
-        const auto start = Clock::now();
-        step_once(settings.integrator, h);  // forces and integration
-        const auto integrated = Clock::now();
+        auto mark = Clock::now();
+        if (colliding) x_start_ = state_.x;  // continuous collision detection sweeps from here
+        step_once(settings.integrator, h);   // forces and integration
+        auto now = Clock::now();
+        times_.particles += seconds(mark, now);
+        if (constrained) {
+            mark = now;
+            solve_constraints(h);
+            now = Clock::now();
+            times_.constraints += seconds(mark, now);
+        }
+        if (colliding) {
+            mark = now;
+            if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
+                        state_.inv_mass.data(), h, collision_scratch_) > 0) {
+                memory_valid_ = false;  // positions and velocities were edited
+            }
+            now = Clock::now();
+            times_.collisions += seconds(mark, now);
+        }
+        if (plastic) {
+            mark = now;
+            plasticity(h);
+            now = Clock::now();
+            times_.plasticity += seconds(mark, now);
+        }
         if (watchdog_.enabled) {
+            mark = now;
             // The energy rule costs a potential-energy pass: only when asked for.
             const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
             verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+            times_.watchdog += seconds(mark, Clock::now());
         }
-        times_.particles += std::chrono::duration<double>(integrated - start).count();
-        times_.watchdog += std::chrono::duration<double>(Clock::now() - integrated).count();
+    }
+}
+
+void World::solve_constraints(double h) {
+    // XPBD after any integrator: the integrator predicted x; the projection
+    // moves it by Δx; the velocity takes the same correction, v += Δx / h.
+    // With symplectic Euler this is exactly XPBD's v = (x_new - x_old) / h.
+    x_predicted_ = state_.x;
+    project(model_.constraints, state_.x.span(), state_.inv_mass.data(), h, lambda_);
+    const double inv_h = 1.0 / h;
+    for (int k = 0; k < 3; ++k) {
+        const double* xp = x_predicted_.span().c[k];
+        const double* x = state_.x.span().c[k];
+        double* v = state_.v.span().c[k];
+        for (std::size_t i = 0; i < state_.size(); ++i) v[i] += (x[i] - xp[i]) * inv_h;
+    }
+    memory_valid_ = false;  // the integrator's cached acceleration or x_prev no longer matches x
+}
+
+void World::plasticity(double h) {
+    for (std::size_t k = 0; k < live_forces_.size(); ++k) {
+        if (!rest0_[k].empty()) apply_plasticity(std::get<Springs>(live_forces_[k]), rest0_[k], state_.x.span(), h);
     }
 }
 
@@ -154,7 +219,10 @@ double World::kinetic_energy() const {
     return e;
 }
 
-double World::potential_energy() const { return forces_.potential_energy(state_.t, state_.x.span(), state_.v.span()); }
+double World::potential_energy() const {
+    return forces_.potential_energy(state_.t, state_.x.span(), state_.v.span()) +
+           sim::potential_energy(model_.constraints, state_.x.span());
+}
 
 double World::force_evaluations() const {
     return state_.size() == 0

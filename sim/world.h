@@ -3,6 +3,8 @@
 // another World built from the same model.
 #pragma once
 
+#include "sim/collisions.h"
+#include "sim/constraints.h"
 #include "sim/forces.h"
 #include "sim/integrators.h"
 #include "sim/particles.h"
@@ -13,10 +15,13 @@
 
 namespace sim {
 
-// What a particle system is: its particles and the forces acting on them.
+// What a particle system is: its particles, the forces acting on them, the
+// constraints that hold them and what they collide with.
 struct ParticleModel {
     std::vector<ParticleDef> particles;
     std::vector<ForceDef> forces;
+    Constraints constraints;  // XPBD, solved after every integrator substep
+    Collisions collisions;    // resolved after the constraints
 };
 
 // Throws InputError for the first invalid particle or force.
@@ -42,9 +47,11 @@ public:
     World(const World&) = delete;
     World& operator=(const World&) = delete;
 
-    // Advances one frame step: settings.substeps integrator steps of
-    // settings.dt / settings.substeps, the watchdog after each. Throws
-    // InputError for bad settings. Once the watchdog has a verdict, does nothing.
+    // Advances one frame step: settings.substeps substeps of
+    // settings.dt / settings.substeps, each the stages
+    //   forces + integrate -> constraints -> collisions -> plasticity -> watchdog
+    // (a stage the model does not use costs nothing). Throws InputError for
+    // bad settings. Once the watchdog has a verdict, does nothing.
     void step(const StepSettings& settings);
 
     // The watchdog (on by default with WatchdogLimits{}). Setting limits
@@ -56,12 +63,19 @@ public:
 
     // Wall time spent per system, accumulated: what a frame budget goes to.
     struct SystemTimes {
-        double particles = 0.0;  // s, integration (force evaluations included)
-        double watchdog = 0.0;   // s
+        double particles = 0.0;    // s, integration (force evaluations, springs included)
+        double constraints = 0.0;  // s, XPBD projection and its velocity update
+        double collisions = 0.0;   // s
+        double plasticity = 0.0;   // s, rest-length creep of plastic springs
+        double watchdog = 0.0;     // s
     };
     const SystemTimes& times() const { return times_; }
 
     const ParticleModel& model() const { return model_; }
+    // The force generators as they are now: plastic springs' rest lengths
+    // change as the body yields (the model keeps the built ones).
+    const std::vector<ForceDef>& live_forces() const { return live_forces_; }
+    std::size_t contacts() const { return collision_scratch_.contacts; }  // resolved in the last substep
     const ParticleState& state() const { return state_; }
     // Direct edits of x or v (a drag with the mouse, a teleport): the next step
     // rebuilds the integrator's memory from the edited state.
@@ -82,6 +96,7 @@ public:
         std::uint64_t frames = 0;
         double initial_energy = 0.0;
         Verdict verdict;
+        std::vector<double> plastic_rest;  // m, rest lengths of plastic springs, in force order
     };
     Snapshot snapshot() const;
     // Throws InputError when the snapshot is of another model (particle count).
@@ -101,10 +116,19 @@ public:
 
 private:
     void step_once(Integrator integrator, double h);
+    void solve_constraints(double h);  // positions projected, velocities corrected
+    void plasticity(double h);
 
     ParticleModel model_;
     ParticleState state_;
+    std::vector<ForceDef> live_forces_;            // model_.forces, with plastic rest lengths as they are now
+    std::vector<std::vector<double>> rest0_;       // built rest lengths per force (plastic springs only)
     ParticleForces forces_;
+    std::vector<double> radius_;                   // (n) m, collision radius
+    Vec3Array x_start_;                            // positions at the start of the substep
+    Vec3Array x_predicted_;                        // positions after the integrator, before the constraints
+    std::vector<double> lambda_;                   // XPBD multipliers of the substep
+    CollisionScratch collision_scratch_;
 
     // Integrator memory and scratch (see StepArrays).
     Vec3Array memory_a_;

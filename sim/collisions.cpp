@@ -1,0 +1,316 @@
+#include "sim/collisions.h"
+
+#include "sim/error.h"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace sim {
+
+namespace {
+
+template <class... Ts>
+struct Overloaded : Ts... {
+    using Ts::operator()...;
+};
+
+void positive(double value, const std::string& name, const char* unit) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+        throw InputError(name + " must be > 0 and finite, in " + unit + " (got " + format_value(value) + ")");
+    }
+}
+
+void finite(const Vec3& v, const std::string& name, const char* unit) {
+    if (!v.allFinite()) {
+        throw InputError(name + " must be finite, in " + unit + " (got [" + format_value(v.x()) + ", " +
+                         format_value(v.y()) + ", " + format_value(v.z()) + "])");
+    }
+}
+
+// The nearest point to p on the segment a-b.
+Vec3 closest_on_segment(const Vec3& a, const Vec3& b, const Vec3& p) {
+    const Vec3 ab = b - a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    return a + t * ab;
+}
+
+SurfacePoint round_surface(const Vec3& center, double radius, const Vec3& p) {
+    const Vec3 r = p - center;
+    const double len = r.norm();
+    // At the very centre every direction is as near: push up (Y is up).
+    return {len - radius, len > 0.0 ? Vec3(r / len) : Vec3(Vec3::UnitY())};
+}
+
+SurfacePoint box_surface(const BoxCollider& box, const Vec3& half, const Vec3& p) {
+    const Vec3 q = box.rotation.transpose() * (p - box.center);  // box frame
+    const Vec3 excess = q.cwiseAbs() - half;                      // > 0 outside along that axis
+    const auto sign = [&](int k) { return q[k] < 0.0 ? -1.0 : 1.0; };
+    if ((excess.array() > 0.0).any()) {
+        const Vec3 out = excess.cwiseMax(0.0);
+        const double d = out.norm();
+        Vec3 n_local;
+        for (int k = 0; k < 3; ++k) n_local[k] = sign(k) * out[k] / d;
+        return {d, box.rotation * n_local};
+    }
+    int k = 0;  // inside: leave through the nearest face
+    excess.maxCoeff(&k);
+    Vec3 n_local = Vec3::Zero();
+    n_local[k] = sign(k);
+    return {excess[k], box.rotation * n_local};
+}
+
+// Bounce and friction of a velocity against a surface of outward normal n.
+void respond(Vec3& v, const Vec3& n, const Collisions& c) {
+    const double vn = v.dot(n);
+    if (vn >= 0.0) return;  // already leaving
+    Vec3 vt = v - vn * n;
+    const double new_vn = -vn < c.rest_speed ? 0.0 : -c.restitution * vn;
+    const double dvn = new_vn - vn;  // > 0: the normal velocity change the contact made
+    const double vt_len = vt.norm();
+    const double reduce = c.friction * dvn;  // Coulomb: tangential change at most μ times the normal one
+    vt = vt_len <= reduce ? Vec3(Vec3::Zero()) : Vec3(vt * (1.0 - reduce / vt_len));
+    v = vt + new_vn * n;
+}
+
+// The first parameter t in [0, 1] where the segment p0 + t (p1 - p0) enters
+// the box grown by r (slab method in the box frame), with the entry face's
+// outward normal; none (t < 0) when p0 is inside or the segment misses.
+struct Hit {
+    double t = -1.0;
+    Vec3 normal = Vec3::Zero();
+};
+Hit cast_box(const BoxCollider& box, double r, const Vec3& p0, const Vec3& p1) {
+    const Vec3 half = box.half_extents + Vec3::Constant(r);
+    const Vec3 a = box.rotation.transpose() * (p0 - box.center);
+    const Vec3 b = box.rotation.transpose() * (p1 - box.center);
+    if ((a.cwiseAbs() - half).maxCoeff() <= 0.0) return {};  // starts inside: not a crossing
+    const Vec3 d = b - a;
+    double t_enter = 0.0, t_exit = 1.0;
+    int axis = -1;
+    double axis_sign = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        if (std::abs(d[k]) < 1e-300) {
+            if (std::abs(a[k]) > half[k]) return {};  // parallel and outside this slab
+            continue;
+        }
+        double t0 = (-half[k] - a[k]) / d[k];
+        double t1 = (half[k] - a[k]) / d[k];
+        double face = -1.0;  // entering through the -k face when moving +k
+        if (t0 > t1) {
+            std::swap(t0, t1);
+            face = 1.0;
+        }
+        if (t0 > t_enter) {
+            t_enter = t0;
+            axis = k;
+            axis_sign = face;
+        }
+        t_exit = std::min(t_exit, t1);
+        if (t_enter > t_exit) return {};
+    }
+    if (axis < 0) return {};
+    Vec3 n_local = Vec3::Zero();
+    n_local[axis] = axis_sign;
+    return {t_enter, box.rotation * n_local};
+}
+
+// One particle against one static collider.
+bool collide_static(const Collider& collider, const Collisions& c, const Vec3& x0, Vec3& x, Vec3& v, double r) {
+    if (const auto* box = std::get_if<BoxCollider>(&collider)) {
+        const Hit hit = cast_box(*box, r, x0, x);
+        if (hit.t >= 0.0) {
+            x = x0 + hit.t * (x - x0);
+            respond(v, hit.normal, c);
+            return true;
+        }
+    }
+    SurfacePoint s = surface_point(collider, x);
+    if (std::holds_alternative<BoxCollider>(collider)) {
+        // The grown box (corners square, not rounded): consistent with the cast.
+        const auto& box = std::get<BoxCollider>(collider);
+        s = box_surface(box, box.half_extents + Vec3::Constant(r), x);
+    } else {
+        s.distance -= r;
+    }
+    if (s.distance >= 0.0) return false;
+    x -= s.distance * s.normal;
+    respond(v, s.normal, c);
+    return true;
+}
+
+// Hash of an integer cell into [0, table).
+std::uint32_t cell_slot(std::int64_t ix, std::int64_t iy, std::int64_t iz, std::uint32_t table) {
+    // Three large primes (Teschner et al. 2003, "Optimized spatial hashing").
+    const std::uint64_t h = static_cast<std::uint64_t>(ix * 73856093) ^ static_cast<std::uint64_t>(iy * 19349663) ^
+                            static_cast<std::uint64_t>(iz * 83492791);
+    return static_cast<std::uint32_t>(h % table);
+}
+
+std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const double* radius, const double* inv_mass,
+                          CollisionScratch& s) {
+    const std::size_t n = x.n;
+    double r_max = 0.0;
+    for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, radius[i]);
+    if (n < 2 || r_max <= 0.0) return 0;
+    const double cell = 2.0 * r_max;  // m: a particle's neighbours are in the 27 cells around its own
+    const auto table = static_cast<std::uint32_t>(2 * n);
+    auto coord = [&](double p) { return static_cast<std::int64_t>(std::floor(p / cell)); };
+
+    // Counting sort of the particles by hash slot.
+    s.cell_start.assign(table + 1, 0);
+    s.cell_of.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t slot =
+            cell_slot(coord(x.c[0][i]), coord(x.c[1][i]), coord(x.c[2][i]), table);
+        s.cell_of[i] = static_cast<std::int32_t>(slot);
+        ++s.cell_start[slot + 1];
+    }
+    for (std::uint32_t k = 0; k < table; ++k) s.cell_start[k + 1] += s.cell_start[k];
+    s.cell_entries.resize(n);
+    {
+        std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
+        for (std::size_t i = 0; i < n; ++i) s.cell_entries[fill[s.cell_of[i]]++] = static_cast<std::uint32_t>(i);
+    }
+
+    std::size_t contacts = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (radius[i] <= 0.0) continue;
+        const std::int64_t cx = coord(x.c[0][i]), cy = coord(x.c[1][i]), cz = coord(x.c[2][i]);
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+            for (std::int64_t dy = -1; dy <= 1; ++dy) {
+                for (std::int64_t dz = -1; dz <= 1; ++dz) {
+                    const std::uint32_t slot = cell_slot(cx + dx, cy + dy, cz + dz, table);
+                    for (std::uint32_t e = s.cell_start[slot]; e < s.cell_start[slot + 1]; ++e) {
+                        const std::uint32_t j = s.cell_entries[e];
+                        if (j <= i) continue;
+                        const double wi = inv_mass[i], wj = inv_mass[j];
+                        if (wi + wj == 0.0) continue;
+                        const Vec3 d = x.get(i) - x.get(j);
+                        const double reach = radius[i] + radius[j];
+                        const double dist2 = d.squaredNorm();
+                        if (dist2 >= reach * reach) continue;
+                        const double dist = std::sqrt(dist2);
+                        // Coincident centres: no direction; separate them along +Y.
+                        const Vec3 nrm = dist > 1e-12 ? Vec3(d / dist) : Vec3(Vec3::UnitY());
+                        const double depth = reach - dist;
+                        x.add(i, (depth * wi / (wi + wj)) * nrm);
+                        x.add(j, (-depth * wj / (wi + wj)) * nrm);
+                        // Relative velocity: restitution along the normal, Coulomb across it.
+                        const Vec3 vrel = v.get(i) - v.get(j);
+                        const double vn = vrel.dot(nrm);
+                        if (vn < 0.0) {
+                            const double new_vn = -vn < c.rest_speed ? 0.0 : -c.restitution * vn;
+                            const double jn = (new_vn - vn) / (wi + wj);  // normal impulse per unit mass sum
+                            Vec3 impulse = jn * nrm;
+                            const Vec3 vt = vrel - vn * nrm;
+                            const double vt_len = vt.norm();
+                            if (vt_len > 0.0) {
+                                const double jt = std::min(c.friction * jn, vt_len / (wi + wj));
+                                impulse -= (jt / vt_len) * vt;
+                            }
+                            v.add(i, wi * impulse);
+                            v.add(j, -wj * impulse);
+                        }
+                        ++contacts;
+                    }
+                }
+            }
+        }
+    }
+    return contacts;
+}
+
+}  // namespace
+
+void validate(const Collisions& c) {
+    if (!(c.restitution >= 0.0 && c.restitution <= 1.0)) {
+        throw InputError("collisions.restitution must be within 0 .. 1 (got " + format_value(c.restitution) + ")");
+    }
+    if (!(c.friction >= 0.0) || !std::isfinite(c.friction)) {
+        throw InputError("collisions.friction must be >= 0 and finite (got " + format_value(c.friction) + ")");
+    }
+    if (!(c.rest_speed >= 0.0) || !std::isfinite(c.rest_speed)) {
+        throw InputError("collisions.rest_speed must be >= 0 and finite, in m/s (got " + format_value(c.rest_speed) +
+                         ")");
+    }
+    for (std::size_t k = 0; k < c.colliders.size(); ++k) {
+        const std::string name = "collisions.colliders[" + std::to_string(k) + "]";
+        std::visit(Overloaded{
+                       [&](const PlaneCollider& p) {
+                           finite(p.normal, name + ".normal", "(a direction)");
+                           if (std::abs(p.normal.norm() - 1.0) > 1e-9) {
+                               throw InputError(name + ".normal must be a unit vector (got length " +
+                                                format_value(p.normal.norm()) + ")");
+                           }
+                           if (!std::isfinite(p.offset)) {
+                               throw InputError(name + ".offset must be finite, in m (got " + format_value(p.offset) +
+                                                ")");
+                           }
+                       },
+                       [&](const SphereCollider& s) {
+                           finite(s.center, name + ".center", "m");
+                           positive(s.radius, name + ".radius", "m");
+                       },
+                       [&](const BoxCollider& b) {
+                           finite(b.center, name + ".center", "m");
+                           for (int i = 0; i < 3; ++i) positive(b.half_extents[i], name + ".half_extents", "m");
+                           if (!b.rotation.allFinite() ||
+                               (b.rotation.transpose() * b.rotation - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
+                               b.rotation.determinant() < 0.0) {
+                               throw InputError(name + ".rotation must be a rotation (orthonormal, det +1)");
+                           }
+                       },
+                       [&](const CapsuleCollider& cap) {
+                           finite(cap.a, name + ".a", "m");
+                           finite(cap.b, name + ".b", "m");
+                           positive(cap.radius, name + ".radius", "m");
+                       },
+                   },
+                   c.colliders[k]);
+    }
+}
+
+SurfacePoint surface_point(const Collider& collider, const Vec3& p) {
+    return std::visit(Overloaded{
+                          [&](const PlaneCollider& plane) {
+                              return SurfacePoint{plane.normal.dot(p) - plane.offset, plane.normal};
+                          },
+                          [&](const SphereCollider& s) { return round_surface(s.center, s.radius, p); },
+                          [&](const BoxCollider& b) { return box_surface(b, b.half_extents, p); },
+                          [&](const CapsuleCollider& cap) {
+                              return round_surface(closest_on_segment(cap.a, cap.b, p), cap.radius, p);
+                          },
+                      },
+                      collider);
+}
+
+std::size_t collide(const Collisions& c, ConstVec3Span x0, Vec3Span x, Vec3Span v, const double* radius,
+                    const double* inv_mass, double /*h*/, CollisionScratch& scratch) {
+    std::size_t contacts = 0;
+    if (c.particle_particle) contacts += collide_pairs(c, x, v, radius, inv_mass, scratch);
+    if (!c.colliders.empty()) {
+        for (std::size_t i = 0; i < x.n; ++i) {
+            if (inv_mass[i] == 0.0) continue;
+            const Vec3 start = x0.get(i);
+            Vec3 p = x.get(i), vel = v.get(i);
+            bool touched = false;
+            for (const Collider& collider : c.colliders) {
+                touched |= collide_static(collider, c, start, p, vel, radius[i]);
+            }
+            if (touched) {
+                x.set(i, p);
+                v.set(i, vel);
+                ++contacts;
+            }
+        }
+    }
+    scratch.contacts = contacts;
+    return contacts;
+}
+
+}  // namespace sim
