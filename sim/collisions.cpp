@@ -48,7 +48,7 @@ SurfacePoint round_surface(const Vec3& center, double radius, const Vec3& p) {
 
 SurfacePoint box_surface(const BoxCollider& box, const Vec3& half, const Vec3& p) {
     const Vec3 q = box.rotation.transpose() * (p - box.center);  // box frame
-    const Vec3 excess = q.cwiseAbs() - half;                      // > 0 outside along that axis
+    const Vec3 excess = q.cwiseAbs() - half;                     // > 0 outside along that axis
     const auto sign = [&](int k) { return q[k] < 0.0 ? -1.0 : 1.0; };
     if ((excess.array() > 0.0).any()) {
         const Vec3 out = excess.cwiseMax(0.0);
@@ -165,8 +165,7 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
     s.cell_start.assign(table + 1, 0);
     s.cell_of.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t slot =
-            cell_slot(coord(x.c[0][i]), coord(x.c[1][i]), coord(x.c[2][i]), table);
+        const std::uint32_t slot = cell_slot(coord(x.c[0][i]), coord(x.c[1][i]), coord(x.c[2][i]), table);
         s.cell_of[i] = static_cast<std::int32_t>(slot);
         ++s.cell_start[slot + 1];
     }
@@ -240,38 +239,38 @@ void validate(const Collisions& c) {
     }
     for (std::size_t k = 0; k < c.colliders.size(); ++k) {
         const std::string name = "collisions.colliders[" + std::to_string(k) + "]";
-        std::visit(Overloaded{
-                       [&](const PlaneCollider& p) {
-                           finite(p.normal, name + ".normal", "(a direction)");
-                           if (std::abs(p.normal.norm() - 1.0) > 1e-9) {
-                               throw InputError(name + ".normal must be a unit vector (got length " +
-                                                format_value(p.normal.norm()) + ")");
-                           }
-                           if (!std::isfinite(p.offset)) {
-                               throw InputError(name + ".offset must be finite, in m (got " + format_value(p.offset) +
-                                                ")");
-                           }
-                       },
-                       [&](const SphereCollider& s) {
-                           finite(s.center, name + ".center", "m");
-                           positive(s.radius, name + ".radius", "m");
-                       },
-                       [&](const BoxCollider& b) {
-                           finite(b.center, name + ".center", "m");
-                           for (int i = 0; i < 3; ++i) positive(b.half_extents[i], name + ".half_extents", "m");
-                           if (!b.rotation.allFinite() ||
-                               (b.rotation.transpose() * b.rotation - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
-                               b.rotation.determinant() < 0.0) {
-                               throw InputError(name + ".rotation must be a rotation (orthonormal, det +1)");
-                           }
-                       },
-                       [&](const CapsuleCollider& cap) {
-                           finite(cap.a, name + ".a", "m");
-                           finite(cap.b, name + ".b", "m");
-                           positive(cap.radius, name + ".radius", "m");
-                       },
-                   },
-                   c.colliders[k]);
+        std::visit(
+            Overloaded{
+                [&](const PlaneCollider& p) {
+                    finite(p.normal, name + ".normal", "(a direction)");
+                    if (std::abs(p.normal.norm() - 1.0) > 1e-9) {
+                        throw InputError(name + ".normal must be a unit vector (got length " +
+                                         format_value(p.normal.norm()) + ")");
+                    }
+                    if (!std::isfinite(p.offset)) {
+                        throw InputError(name + ".offset must be finite, in m (got " + format_value(p.offset) + ")");
+                    }
+                },
+                [&](const SphereCollider& s) {
+                    finite(s.center, name + ".center", "m");
+                    positive(s.radius, name + ".radius", "m");
+                },
+                [&](const BoxCollider& b) {
+                    finite(b.center, name + ".center", "m");
+                    for (int i = 0; i < 3; ++i) positive(b.half_extents[i], name + ".half_extents", "m");
+                    if (!b.rotation.allFinite() ||
+                        (b.rotation.transpose() * b.rotation - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
+                        b.rotation.determinant() < 0.0) {
+                        throw InputError(name + ".rotation must be a rotation (orthonormal, det +1)");
+                    }
+                },
+                [&](const CapsuleCollider& cap) {
+                    finite(cap.a, name + ".a", "m");
+                    finite(cap.b, name + ".b", "m");
+                    positive(cap.radius, name + ".radius", "m");
+                },
+            },
+            c.colliders[k]);
     }
 }
 

@@ -43,25 +43,25 @@ struct SphereCollider {
 
 // An oriented box: rotation maps box axes to world axes.
 struct BoxCollider {
-    Vec3 center = Vec3::Zero();                           // m
-    Vec3 half_extents = Vec3(0.5, 0.5, 0.5);              // m (each > 0)
+    Vec3 center = Vec3::Zero();                              // m
+    Vec3 half_extents = Vec3(0.5, 0.5, 0.5);                 // m (each > 0)
     Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // orthonormal, det +1
 };
 
 // All points within radius of the segment a-b.
 struct CapsuleCollider {
-    Vec3 a = Vec3::Zero();      // m
-    Vec3 b = Vec3::UnitY();     // m
-    double radius = 0.25;       // m (> 0)
+    Vec3 a = Vec3::Zero();   // m
+    Vec3 b = Vec3::UnitY();  // m
+    double radius = 0.25;    // m (> 0)
 };
 
 using Collider = std::variant<PlaneCollider, SphereCollider, BoxCollider, CapsuleCollider>;
 
 struct Collisions {
     std::vector<Collider> colliders;
-    double restitution = 0.3;  // 0 (no bounce) .. 1 (elastic)
-    double friction = 0.4;     // Coulomb μ (>= 0)
-    double rest_speed = 0.05;  // m/s: normal speeds below it do not bounce
+    double restitution = 0.3;        // 0 (no bounce) .. 1 (elastic)
+    double friction = 0.4;           // Coulomb μ (>= 0)
+    double rest_speed = 0.05;        // m/s: normal speeds below it do not bounce
     bool particle_particle = false;  // particles collide with each other (spatial hash grid)
 
     bool empty() const { return colliders.empty() && !particle_particle; }
@@ -82,7 +82,7 @@ SurfacePoint surface_point(const Collider& collider, const Vec3& p);
 // Scratch and counters of the collision pass (state that changes every step;
 // not part of a scene's description).
 struct CollisionScratch {
-    std::vector<std::uint32_t> cell_start;  // (table + 1) counting-sort offsets
+    std::vector<std::uint32_t> cell_start;    // (table + 1) counting-sort offsets
     std::vector<std::uint32_t> cell_entries;  // particle indices sorted by cell
     std::vector<std::int32_t> cell_of;        // hash slot of each particle
     std::size_t contacts = 0;                 // contacts resolved in the last pass

@@ -29,6 +29,18 @@ void validate(const Constraints& constraints, std::size_t particle_count) {
                              ")");
         }
     }
+    for (std::size_t k = 0; k < constraints.tethers.size(); ++k) {
+        const Tether& t = constraints.tethers[k];
+        const std::string name = "constraints.tethers[" + std::to_string(k) + "]";
+        if (t.particle >= particle_count || t.anchor >= particle_count || t.particle == t.anchor) {
+            throw InputError(name + " ties particle " + std::to_string(t.particle) + " to " + std::to_string(t.anchor) +
+                             ": two different particles of the " + std::to_string(particle_count) + " are needed");
+        }
+        if (!(t.max_distance >= 0.0) || !std::isfinite(t.max_distance)) {
+            throw InputError(name + ".max_distance must be >= 0 and finite, in m (got " + format_value(t.max_distance) +
+                             ")");
+        }
+    }
 }
 
 void project(const Constraints& constraints, Vec3Span x, const double* inv_mass, double h,
@@ -54,6 +66,17 @@ void project(const Constraints& constraints, Vec3Span x, const double* inv_mass,
             lambda[k] += dlambda;
             x.add(c.i, (wi * dlambda) * n);
             x.add(c.j, (-wj * dlambda) * n);
+        }
+        for (const Tether& t : constraints.tethers) {
+            const double wi = inv_mass[t.particle], wa = inv_mass[t.anchor];
+            if (wi == 0.0) continue;
+            const Vec3 d = x.get(t.particle) - x.get(t.anchor);
+            const double length = d.norm();
+            if (length <= t.max_distance) continue;  // one-sided: slack is free
+            const double excess = length - t.max_distance;
+            const Vec3 n = d / length;
+            x.add(t.particle, (-excess * wi / (wi + wa)) * n);
+            x.add(t.anchor, (excess * wa / (wi + wa)) * n);
         }
     }
 }

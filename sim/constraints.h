@@ -29,14 +29,29 @@ struct DistanceConstraint {
     double compliance = 0.0;  // m/N: 1 / stiffness; 0 is inextensible
 };
 
+// A long-range attachment (Kim, Chentanez and Müller 2012, "Long range
+// attachments: a method to simulate inextensible clothing in computer
+// games"): particle `particle` may be at most max_distance (its rest distance
+// along the body) from `anchor`, a pinned particle. One-sided, inextensible.
+// Gauss-Seidel spreads a correction one link per sweep, so a chain or cloth
+// hanging from pins stretches under load when iterations are few; a tether
+// takes each particle straight back within reach of its pin, whatever the
+// mass ratio. Jolt (its "LRA" constraints) and NvCloth (tethers) do the same.
+struct Tether {
+    std::uint32_t particle = 0;
+    std::uint32_t anchor = 0;   // a pinned particle
+    double max_distance = 1.0;  // m (>= 0)
+};
+
 struct Constraints {
     std::vector<DistanceConstraint> distance;
+    std::vector<Tether> tethers;  // projected after each sweep of the distance constraints
     // Gauss-Seidel sweeps over every constraint per substep (>= 1). More
     // substeps usually beat more iterations (Macklin et al. 2019, "Small
     // steps in physics simulation"); the report measures it.
     int iterations = 1;
 
-    bool empty() const { return distance.empty(); }
+    bool empty() const { return distance.empty() && tethers.empty(); }
 };
 
 // Throws InputError naming the first bad constraint, e.g.
@@ -45,8 +60,7 @@ void validate(const Constraints& constraints, std::size_t particle_count);
 
 // Solves every constraint on positions x (in place) for a substep of h > 0,
 // with the particles' inverse masses. lambda is scratch (resized here).
-void project(const Constraints& constraints, Vec3Span x, const double* inv_mass, double h,
-             std::vector<double>& lambda);
+void project(const Constraints& constraints, Vec3Span x, const double* inv_mass, double h, std::vector<double>& lambda);
 
 // Σ C² / (2 α) over compliant constraints, J: the energy a compliant
 // constraint stores, like a spring of stiffness 1/α. Inextensible ones store none.

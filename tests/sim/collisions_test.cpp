@@ -1,0 +1,158 @@
+// Particle collisions: each shape's signed distance against its closed form,
+// bounce and friction against their closed forms, continuous detection, and
+// particle pairs conserving momentum.
+#include "sim/collisions.h"
+#include "sim/error.h"
+#include "sim/world.h"
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+
+namespace sim::test {
+namespace {
+
+TEST(SurfacePoint, EachShapeMatchesItsClosedForm) {
+    const SurfacePoint plane = surface_point(PlaneCollider{Vec3::UnitY(), 0.5}, Vec3(3, 2, 1));
+    EXPECT_DOUBLE_EQ(plane.distance, 1.5);
+    const SurfacePoint sphere = surface_point(SphereCollider{Vec3(1, 0, 0), 2.0}, Vec3(1, 0, 3));
+    EXPECT_DOUBLE_EQ(sphere.distance, 1.0);
+    EXPECT_EQ(sphere.normal, Vec3(0, 0, 1));
+    // A box rotated 90 degrees about y: its x half-extent 2 now lies along z.
+    BoxCollider box;
+    box.half_extents = Vec3(2, 1, 0.5);
+    box.rotation = Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()).toRotationMatrix();
+    EXPECT_NEAR(surface_point(box, Vec3(0, 0, 3)).distance, 1.0, 1e-12) << "m, outside the face at z = 2";
+    EXPECT_NEAR(surface_point(box, Vec3(0, 0, 1.9)).distance, -0.1, 1e-12) << "m, inside near the face";
+    EXPECT_NEAR(surface_point(box, Vec3(0, 2, 3)).distance, std::sqrt(2.0), 1e-12) << "m, off an edge";
+    const SurfacePoint capsule = surface_point(CapsuleCollider{Vec3(0, 0, 0), Vec3(0, 4, 0), 0.5}, Vec3(2, 6, 0));
+    EXPECT_NEAR(capsule.distance, std::sqrt(8.0) - 0.5, 1e-12) << "m, beyond the end cap";
+    EXPECT_NEAR(surface_point(CapsuleCollider{Vec3(0, 0, 0), Vec3(0, 4, 0), 0.5}, Vec3(1, 2, 0)).distance, 0.5, 1e-12);
+}
+
+// One particle of radius r on the ground plane y = 0, no gravity unless given.
+ParticleModel ball(const Vec3& x, const Vec3& v, double restitution, double friction, const Vec3& g = Vec3::Zero()) {
+    ParticleModel model;
+    ParticleDef p;
+    p.position = x;
+    p.velocity = v;
+    p.radius = 0.1;
+    model.particles.push_back(p);
+    if (g != Vec3::Zero()) model.forces.push_back(UniformGravity{g});
+    model.collisions.colliders.push_back(PlaneCollider{});
+    model.collisions.restitution = restitution;
+    model.collisions.friction = friction;
+    return model;
+}
+
+TEST(Collisions, ABounceKeepsRestitutionTimesTheNormalSpeed) {
+    World world(ball(Vec3(0, 0.15, 0), Vec3(1, -6, 0), 0.5, 0.0));
+    world.step({Integrator::symplectic_euler, 0.02, 1});  // 0.12 m down: 0.07 m into the plane
+    EXPECT_NEAR(world.state().x.get(0).y(), 0.1, 1e-15) << "m: pushed back to touch the plane";
+    EXPECT_NEAR(world.state().v.get(0).y(), 3.0, 1e-15) << "m/s: e = 0.5 of 6 m/s";
+    EXPECT_NEAR(world.state().v.get(0).x(), 1.0, 1e-15) << "m/s: no friction, tangential speed kept";
+}
+
+TEST(Collisions, CoulombFrictionStopsASlideAtVSquaredOverTwoMuG) {
+    // Sliding at 4 m/s with μ = 0.5 under g = 9.81: it stops after
+    // v² / (2 μ g) = 1.631 m. Tolerance: one step of travel (4 m/s x 1/240 s).
+    const double mu = 0.5, g = 9.81, v0 = 4.0;
+    World world(ball(Vec3(0, 0.1, 0), Vec3(v0, 0, 0), 0.0, mu, Vec3(0, -g, 0)));
+    for (int i = 0; i < 480; ++i) world.step({Integrator::symplectic_euler, 1.0 / 240.0, 1});
+    EXPECT_NEAR(world.state().x.get(0).x(), v0 * v0 / (2 * mu * g), v0 / 240.0) << "m";
+    EXPECT_EQ(world.state().v.get(0).x(), 0.0) << "m/s: stopped, not reversed";
+    EXPECT_NEAR(world.state().x.get(0).y(), 0.1, 1e-12) << "m: resting on the plane, no jitter";
+}
+
+TEST(Collisions, AFastParticleStopsAtAThinWallInsteadOfPassingThrough) {
+    // 200 m/s at 1/60 s moves 3.3 m per step; the wall is 1 cm thick at x = 5 m.
+    ParticleModel model;
+    ParticleDef p;
+    p.position = Vec3(0, 1, 0);
+    p.velocity = Vec3(200, 0, 0);
+    p.radius = 0.0;
+    model.particles.push_back(p);
+    BoxCollider wall;
+    wall.center = Vec3(5, 1, 0);
+    wall.half_extents = Vec3(0.005, 2, 2);
+    model.collisions.colliders.push_back(wall);
+    model.collisions.restitution = 0.0;
+    World world(std::move(model));
+    world.set_watchdog({.max_speed = 1000});
+    for (int i = 0; i < 60; ++i) {
+        world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+        ASSERT_LE(world.state().x.get(0).x(), 4.995 + 1e-12) << "m: behind the wall at frame " << i + 1;
+    }
+}
+
+TEST(Collisions, ParticlePairsExchangeVelocitiesAndConserveMomentum) {
+    // Two equal particles head-on with e = 1: they swap velocities.
+    ParticleModel model;
+    for (double side : {-1.0, 1.0}) {
+        ParticleDef p;
+        p.position = Vec3(side * 0.11, 0, 0);
+        p.velocity = Vec3(-side * 2.0, 0, 0);
+        p.radius = 0.1;
+        model.particles.push_back(p);
+    }
+    model.particles[1].velocity = Vec3(-1.0, 0, 0);
+    model.collisions.particle_particle = true;
+    model.collisions.restitution = 1.0;
+    model.collisions.friction = 0.0;
+    model.collisions.rest_speed = 0.0;
+    World world(std::move(model));
+    world.step({Integrator::symplectic_euler, 0.01, 1});
+    EXPECT_NEAR(world.state().v.get(0).x(), -1.0, 1e-12) << "m/s";
+    EXPECT_NEAR(world.state().v.get(1).x(), 2.0, 1e-12) << "m/s";
+    const Vec3 p = world.state().v.get(0) + world.state().v.get(1);
+    EXPECT_NEAR((p - Vec3(1.0, 0, 0)).norm(), 0.0, 1e-12) << "kg·m/s, momentum";
+    EXPECT_GE((world.state().x.get(1) - world.state().x.get(0)).norm(), 0.2 - 1e-12) << "m: separated";
+}
+
+TEST(Collisions, ManyParticlesInAHeapNeverOverlapMuchAndAreDeterministic) {
+    auto build = [] {
+        ParticleModel model;
+        for (int i = 0; i < 400; ++i) {
+            ParticleDef p;
+            p.position = Vec3((i % 20) * 0.05, 0.5 + (i / 20) * 0.05, 0.01 * (i % 3));
+            p.radius = 0.02;
+            model.particles.push_back(p);
+        }
+        model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+        model.collisions.colliders.push_back(PlaneCollider{});
+        model.collisions.particle_particle = true;
+        return model;
+    };
+    World a(build()), b(build());
+    for (int i = 0; i < 120; ++i) {
+        a.step({Integrator::symplectic_euler, 1.0 / 60.0, 4});
+        b.step({Integrator::symplectic_euler, 1.0 / 60.0, 4});
+    }
+    EXPECT_EQ(a.state().x.raw(), b.state().x.raw());
+    EXPECT_FALSE(a.verdict().exploded()) << a.verdict().message("heap");
+    for (std::size_t i = 0; i < a.state().size(); ++i) {
+        ASSERT_GE(a.state().x.get(i).y(), 0.02 - 1e-9) << "m: particle " << i << " below the ground";
+    }
+}
+
+TEST(Collisions, ValidationNamesTheCollider) {
+    Collisions c;
+    c.colliders.push_back(PlaneCollider{});
+    c.colliders.push_back(SphereCollider{Vec3::Zero(), 0.0});
+    try {
+        validate(c);
+        FAIL() << "accepted a sphere of radius 0";
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "collisions.colliders[1].radius must be > 0 and finite, in m (got 0)");
+    }
+    c.colliders[1] = PlaneCollider{Vec3(0, 2, 0), 0.0};
+    EXPECT_THROW(validate(c), InputError);
+    c.colliders.pop_back();
+    c.restitution = 1.5;
+    EXPECT_THROW(validate(c), InputError);
+}
+
+}  // namespace
+}  // namespace sim::test
