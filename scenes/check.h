@@ -16,11 +16,11 @@ namespace scenes {
 
 // A scene's checkpoints, rendered and hashed.
 struct Filmstrip {
-    render::Image image;                 // the contact sheet, one tile per checkpoint
-    std::vector<int> frames;             // the checkpoints reached
-    std::vector<double> times;           // s
-    std::vector<std::string> hashes;     // hex state hash at each
-    sim::Verdict verdict;                // exploded: the run stopped at verdict.frame
+    render::Image image;              // the contact sheet, one tile per checkpoint
+    std::vector<int> frames;          // the checkpoints reached
+    std::vector<double> times;        // s
+    std::vector<std::string> hashes;  // hex state hash at each
+    sim::Verdict verdict;             // exploded: the run stopped at verdict.frame
 };
 
 struct FilmstripSettings {
@@ -37,8 +37,8 @@ enum class UpdateMode { none, missing, changed, all };
 
 struct CheckOptions {
     UpdateMode update = UpdateMode::none;
-    std::filesystem::path golden_dir;   // golden/ of the source tree unless set
-    std::filesystem::path report_dir;   // out/check unless set
+    std::filesystem::path golden_dir;  // golden/ of the source tree unless set
+    std::filesystem::path report_dir;  // out/check unless set
 };
 
 std::filesystem::path default_golden_dir();

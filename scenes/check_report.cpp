@@ -2,7 +2,6 @@
 
 #include <nlohmann/json.hpp>
 
-
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -22,38 +21,55 @@ std::string escape(const std::string& text) {
     std::string out;
     for (char c : text) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&#39;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&#39;";
+                break;
+            default:
+                out += c;
         }
     }
     return out;
 }
 
-
 nlohmann::json to_json(const SceneCheck& c) {
-    nlohmann::json j = {{"scene", c.scene},
-                        {"status", status_name(c.status)},
-                        {"message", c.message},
-                        {"first_hash_mismatch", c.first_hash_mismatch},
-                        {"seconds", c.seconds},
-                        {"fingerprint_expected", c.fingerprint_expected},
-                        {"fingerprint_actual", c.fingerprint_actual},
-                        {"images", {{"expected", c.expected_png}, {"actual", c.actual_png}, {"diff", c.diff_png}, {"side", c.side_png}}}};
+    nlohmann::json j = {
+        {"scene", c.scene},
+        {"status", status_name(c.status)},
+        {"message", c.message},
+        {"first_hash_mismatch", c.first_hash_mismatch},
+        {"seconds", c.seconds},
+        {"fingerprint_expected", c.fingerprint_expected},
+        {"fingerprint_actual", c.fingerprint_actual},
+        {"images",
+         {{"expected", c.expected_png}, {"actual", c.actual_png}, {"diff", c.diff_png}, {"side", c.side_png}}}};
     nlohmann::json hashes = nlohmann::json::array();
     for (const CheckpointHash& h : c.hashes) {
-        hashes.push_back({{"frame", h.frame}, {"expected", h.expected}, {"actual", h.actual}, {"same", h.expected == h.actual}});
+        hashes.push_back(
+            {{"frame", h.frame}, {"expected", h.expected}, {"actual", h.actual}, {"same", h.expected == h.actual}});
     }
     j["hashes"] = hashes;
     if (c.image) {
         const render::GoldenDiff& d = *c.image;
-        j["image"] = {{"identical", d.identical},       {"pass", d.pass},
-                      {"size_mismatch", d.size_mismatch}, {"summary", d.summary},
-                      {"small_pixels", d.small_pixels},  {"large_pixels", d.large_pixels},
-                      {"small_share", d.small_share},    {"large_share", d.large_share},
+        j["image"] = {{"identical", d.identical},
+                      {"pass", d.pass},
+                      {"size_mismatch", d.size_mismatch},
+                      {"summary", d.summary},
+                      {"small_pixels", d.small_pixels},
+                      {"large_pixels", d.large_pixels},
+                      {"small_share", d.small_share},
+                      {"large_share", d.large_share},
                       {"max_d", d.max_d},
                       {"large_box", {d.large_box.x0, d.large_box.y0, d.large_box.x1, d.large_box.y1}}};
     } else {
@@ -97,9 +113,9 @@ document.querySelectorAll('img.flicker').forEach(function (img) {
 
 std::string scene_html(const SceneCheck& c) {
     std::ostringstream h;
-    h << "<div class=\"scene " << status_name(c.status) << "\" id=\"" << escape(c.scene) << "\">\n<h2>" << escape(c.scene)
-      << "<span class=\"status\">" << status_name(c.status) << "</span></h2>\n<div class=\"message\">" << escape(c.message)
-      << "</div>\n";
+    h << "<div class=\"scene " << status_name(c.status) << "\" id=\"" << escape(c.scene) << "\">\n<h2>"
+      << escape(c.scene) << "<span class=\"status\">" << status_name(c.status)
+      << "</span></h2>\n<div class=\"message\">" << escape(c.message) << "</div>\n";
     if (c.image) h << "<div>image: " << escape(c.image->summary) << "</div>\n";
     if (failed(c.status) && !c.hashes.empty()) {
         h << "<table><tr><th>checkpoint</th><th>frame</th><th>expected hash</th><th>actual hash</th></tr>\n";
@@ -112,8 +128,8 @@ std::string scene_html(const SceneCheck& c) {
         h << "</table>\n";
     }
     if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual) {
-        h << "<div>renderer of the golden: <code>" << escape(c.fingerprint_expected) << "</code><br>renderer now: <code>"
-          << escape(c.fingerprint_actual) << "</code></div>\n";
+        h << "<div>renderer of the golden: <code>" << escape(c.fingerprint_expected)
+          << "</code><br>renderer now: <code>" << escape(c.fingerprint_actual) << "</code></div>\n";
     }
     if (!c.expected_png.empty() || !c.actual_png.empty()) {
         h << "<div class=\"images\">\n";
@@ -123,10 +139,14 @@ std::string scene_html(const SceneCheck& c) {
               << "\" alt=\"actual\"><div class=\"hint\">showing actual (click to flip)</div>\n";
         } else {
             const std::string& only = c.actual_png.empty() ? c.expected_png : c.actual_png;
-            h << "<img src=\"" << escape(only) << "\" alt=\"" << (c.actual_png.empty() ? "expected" : "actual") << "\">\n";
+            h << "<img src=\"" << escape(only) << "\" alt=\"" << (c.actual_png.empty() ? "expected" : "actual")
+              << "\">\n";
         }
-        if (!c.diff_png.empty()) h << "<div>diff (grey: same, yellow: small, red: large, blue: box of large errors)</div><img src=\"" << escape(c.diff_png) << "\" alt=\"diff\">\n";
-        if (!c.side_png.empty()) h << "<div><a href=\"" << escape(c.side_png) << "\">expected | actual | diff side by side</a></div>\n";
+        if (!c.diff_png.empty())
+            h << "<div>diff (grey: same, yellow: small, red: large, blue: box of large errors)</div><img src=\""
+              << escape(c.diff_png) << "\" alt=\"diff\">\n";
+        if (!c.side_png.empty())
+            h << "<div><a href=\"" << escape(c.side_png) << "\">expected | actual | diff side by side</a></div>\n";
         h << "</div>\n";
     }
     h << "</div>\n";
@@ -137,12 +157,18 @@ std::string scene_html(const SceneCheck& c) {
 
 const char* status_name(SceneCheck::Status status) {
     switch (status) {
-        case SceneCheck::Status::pass: return "pass";
-        case SceneCheck::Status::fail: return "fail";
-        case SceneCheck::Status::missing: return "missing";
-        case SceneCheck::Status::exploded: return "exploded";
-        case SceneCheck::Status::updated: return "updated";
-        case SceneCheck::Status::error: return "error";
+        case SceneCheck::Status::pass:
+            return "pass";
+        case SceneCheck::Status::fail:
+            return "fail";
+        case SceneCheck::Status::missing:
+            return "missing";
+        case SceneCheck::Status::exploded:
+            return "exploded";
+        case SceneCheck::Status::updated:
+            return "updated";
+        case SceneCheck::Status::error:
+            return "error";
     }
     return "?";
 }
@@ -160,7 +186,8 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
     for (const SceneCheck& c : scenes) order.push_back(&c);
     std::stable_partition(order.begin(), order.end(), [](const SceneCheck* c) { return failed(c->status); });
     std::ostringstream html;
-    html << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Plausible golden check</title><style>"
+    html << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Plausible golden "
+            "check</title><style>"
          << kStyle << "</style></head><body>\n<h1>Plausible golden check</h1>\n<div class=\"counts\">";
     for (auto s : {SceneCheck::Status::pass, SceneCheck::Status::fail, SceneCheck::Status::exploded,
                    SceneCheck::Status::missing, SceneCheck::Status::error, SceneCheck::Status::updated}) {

@@ -24,10 +24,10 @@ struct SceneCheck {
     std::string message;                      // one line
     std::optional<render::GoldenDiff> image;  // metrics, when an image comparison happened
     std::vector<CheckpointHash> hashes;
-    int first_hash_mismatch = -1;             // checkpoint index, -1: none
+    int first_hash_mismatch = -1;                              // checkpoint index, -1: none
     std::string expected_png, actual_png, diff_png, side_png;  // relative to the report folder; empty: not written
-    std::string fingerprint_expected, fingerprint_actual;       // renderer fingerprints, one line each
-    double seconds = 0;                                          // s, wall time of the scene's check
+    std::string fingerprint_expected, fingerprint_actual;      // renderer fingerprints, one line each
+    double seconds = 0;                                        // s, wall time of the scene's check
 };
 
 const char* status_name(SceneCheck::Status status);

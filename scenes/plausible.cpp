@@ -127,8 +127,24 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
     const std::string integrator(sim::integrator_info(scene.step.integrator).name);
     const double steps = static_cast<double>(world.steps());
     const auto& times = world.times();
-    const double ms_particles = steps > 0 ? 1e3 * times.particles / steps : 0.0;
-    const double ms_watchdog = steps > 0 ? 1e3 * times.watchdog / steps : 0.0;
+    auto ms = [&](double seconds) { return steps > 0 ? 1e3 * seconds / steps : 0.0; };
+    const double ms_particles = ms(times.particles);
+    const double ms_watchdog = ms(times.watchdog);
+    // Per system the scene built (DESIGN.md: ms_per_step has one entry per system and the total).
+    nlohmann::json per_system = nlohmann::json::object();
+    double ms_total = 0.0;
+    for (const std::string& system : scene.systems()) {
+        const double v = system == "particles"     ? ms_particles
+                         : system == "constraints" ? ms(times.constraints)
+                         : system == "collisions"  ? ms(times.collisions)
+                         : system == "plasticity"  ? ms(times.plasticity)
+                         : system == "watchdog"    ? ms_watchdog
+                                                   : -1.0;
+        if (v < 0.0) continue;  // springs: inside the particles' force evaluations
+        per_system[system] = v;
+        ms_total += v;
+    }
+    per_system["total"] = ms_total;
     std::optional<double> error;
     if (!scene.ghosts.empty()) {
         const scenes::Ghost& g = scene.ghosts.front();
@@ -149,13 +165,27 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         j["state_hash"] = run.state_hash_hex();
         j["energy"] = {{"initial", number(e0)}, {"final", number(e1)}, {"min", number(e_min)}, {"max", number(e_max)}};
         if (verdict.exploded()) {
-            j["verdict"] = {{"status", "exploded"},      {"frame", verdict.frame}, {"quantity", verdict.quantity},
-                            {"index", verdict.index},    {"value", number(verdict.value)}, {"limit", number(verdict.limit)},
+            j["verdict"] = {{"status", "exploded"},
+                            {"frame", verdict.frame},
+                            {"quantity", verdict.quantity},
+                            {"index", verdict.index},
+                            {"value", number(verdict.value)},
+                            {"limit", number(verdict.limit)},
                             {"message", verdict.message(scene.name)}};
         } else {
             j["verdict"] = {{"status", "ok"}};
         }
-        j["ms_per_step"] = {{"particles", ms_particles}, {"watchdog", ms_watchdog}, {"total", ms_particles + ms_watchdog}};
+        j["ms_per_step"] = per_system;
+        nlohmann::json contained = nlohmann::json::array();
+        for (const auto& c : world.contained()) {
+            contained.push_back({{"name", c.name},
+                                 {"frame", c.verdict.frame},
+                                 {"quantity", c.verdict.quantity},
+                                 {"index", c.verdict.index},
+                                 {"value", number(c.verdict.value)},
+                                 {"message", c.verdict.message(scene.name + ": " + c.name)}});
+        }
+        if (!contained.empty()) j["contained"] = contained;
         j["force_evaluations"] = world.force_evaluations();
         if (error) j["position_error"] = number(*error);
         std::cout << j.dump() << "\n";
@@ -170,8 +200,18 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
                         scene.particle_names[scene.ghosts.front().particle].c_str(), *error,
                         scene.ghosts.front().solution.c_str());
         }
-        std::printf("  cost      %.0f force evaluations, %.3g ms per step (+ %.3g ms watchdog)\n",
-                    world.force_evaluations(), ms_particles, ms_watchdog);
+        std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(), ms_total);
+        bool first = true;
+        for (const auto& [system, v] : per_system.items()) {
+            if (system == "total") continue;
+            std::printf("%s%s %.3g", first ? "" : ", ", system.c_str(), v.get<double>());
+            first = false;
+        }
+        std::printf(")\n");
+        for (const auto& c : world.contained()) {
+            std::printf("  contained %s (frozen; the run went on)\n",
+                        c.verdict.message(scene.name + ": " + c.name).c_str());
+        }
         std::printf("  state     hash %s\n", run.state_hash_hex().c_str());
         if (verdict.exploded()) std::printf("%s\n", verdict.message(scene.name).c_str());
     }
@@ -199,7 +239,8 @@ std::pair<int, int> parse_size(const std::string& text) {
 
 render::Backend parse_backend(const std::string& text) {
     const auto b = render::backend_from_name(text);
-    if (!b || *b == render::Backend::glfw) throw sim::InputError("--backend must be osmesa or egl (got '" + text + "')");
+    if (!b || *b == render::Backend::glfw)
+        throw sim::InputError("--backend must be osmesa or egl (got '" + text + "')");
     return *b;
 }
 
@@ -220,8 +261,9 @@ int render_scene(const SceneOptions& options, const RenderOptions& r) {
             char* end = nullptr;
             const long f = std::strtol(item.c_str(), &end, 10);
             if (item.empty() || *end != '\0' || f < 0 || f > scene.frames || (!frames.empty() && f <= frames.back())) {
-                throw sim::InputError("--frames must be ascending frame numbers within 0 .. " + std::to_string(scene.frames) +
-                                      ", comma-separated (got '" + item + "' in '" + r.frames + "')");
+                throw sim::InputError("--frames must be ascending frame numbers within 0 .. " +
+                                      std::to_string(scene.frames) + ", comma-separated (got '" + item + "' in '" +
+                                      r.frames + "')");
             }
             frames.push_back(static_cast<int>(f));
         }
@@ -267,14 +309,20 @@ struct CheckArgs {
 
 int check(const CheckArgs& a, const SceneOptions& options) {
     scenes::CheckOptions o;
-    if (a.update == "none") o.update = scenes::UpdateMode::none;
-    else if (a.update == "missing") o.update = scenes::UpdateMode::missing;
-    else if (a.update == "changed") o.update = scenes::UpdateMode::changed;
-    else if (a.update == "all") o.update = scenes::UpdateMode::all;
-    else throw sim::InputError("--update must be none, missing, changed or all (got '" + a.update + "')");
+    if (a.update == "none")
+        o.update = scenes::UpdateMode::none;
+    else if (a.update == "missing")
+        o.update = scenes::UpdateMode::missing;
+    else if (a.update == "changed")
+        o.update = scenes::UpdateMode::changed;
+    else if (a.update == "all")
+        o.update = scenes::UpdateMode::all;
+    else
+        throw sim::InputError("--update must be none, missing, changed or all (got '" + a.update + "')");
     const auto overrides = options.overrides();
     if (o.update != scenes::UpdateMode::none && !overrides.empty()) {
-        throw sim::InputError("--update with --set would bless a scene that is not the one in its file: drop one of them");
+        throw sim::InputError(
+            "--update with --set would bless a scene that is not the one in its file: drop one of them");
     }
     o.report_dir = a.report;
     const std::vector<std::string> names = a.scenes.empty() ? scenes::catalog() : a.scenes;
@@ -287,7 +335,8 @@ int check(const CheckArgs& a, const SceneOptions& options) {
         passed += ok ? 1 : 0;
         errors += c.status == scenes::SceneCheck::Status::error ? 1 : 0;
         failed += !ok && c.status != scenes::SceneCheck::Status::error ? 1 : 0;
-        std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), scenes::status_name(c.status), c.message.c_str(), c.seconds);
+        std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), scenes::status_name(c.status), c.message.c_str(),
+                    c.seconds);
     }
     std::printf("%d passed, %d failed, %d errors; report: %s\n", passed, failed, errors,
                 (fs::path(a.report) / "index.html").c_str());
@@ -305,7 +354,8 @@ int main(int argc, char** argv) {
     SceneOptions run_options;
     RunOutput run_output;
     CLI::App* run = app.add_subcommand("run", "Run a scene headless and print a summary");
-    run->add_option("scene", run_options.scene, "Scene name (see `plausible list`) or path of a .toml file")->required();
+    run->add_option("scene", run_options.scene, "Scene name (see `plausible list`) or path of a .toml file")
+        ->required();
     run_options.add_to(run, true);
     run->add_option("--csv", run_output.csv, "Write frame,time,kind,id,x,y,z,vx,vy,vz per object per frame");
     run->add_flag("--json", run_output.json, "Print one JSON object");
@@ -326,7 +376,8 @@ int main(int argc, char** argv) {
     CLI::App* check_cmd = app.add_subcommand("check", "Compare scenes' checkpoint frames with their golden images");
     check_cmd->add_option("scenes", check_args.scenes, "Scenes to check (default: all)");
     check_options.add_to(check_cmd, true);
-    check_cmd->add_option("--update", check_args.update, "Write goldens: none, missing, changed or all")->capture_default_str();
+    check_cmd->add_option("--update", check_args.update, "Write goldens: none, missing, changed or all")
+        ->capture_default_str();
     check_cmd->add_option("--report", check_args.report, "Folder for the report (index.html, report.json, images)")
         ->capture_default_str();
     check_cmd->add_option("--backend", check_args.backend, "osmesa or egl")->capture_default_str();
@@ -349,7 +400,7 @@ int main(int argc, char** argv) {
     } catch (const render::RenderError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return e.kind() == render::ErrorKind::bad_input || e.kind() == render::ErrorKind::no_display ? kExitBadInput
-                                                                                                      : kExitFailed;
+                                                                                                     : kExitFailed;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitFailed;

@@ -10,6 +10,7 @@
 #include "render/draw_list.h"
 #include "sim/analytic.h"
 #include "sim/error.h"
+#include "sim/mass_spring.h"
 #include "sim/watchdog.h"
 #include "sim/world.h"
 
@@ -32,6 +33,18 @@ public:
 struct ParticleLook {
     double radius = 0.1;  // m
     render::Color color;
+    bool visible = true;  // cloth and soft-body nodes are drawn as their mesh instead
+};
+
+// A body a builder made (rope, cloth, soft body), for drawing: where its
+// particles are and how it looks.
+struct BodyLook {
+    enum class Kind { rope, cloth, soft_body };
+    Kind kind = Kind::rope;
+    std::string name;
+    sim::BodyRange range;
+    render::Color color;
+    bool strain_colors = false;  // links coloured by strain: red stretched, blue compressed
 };
 
 // A closed-form trajectory for one particle: the semi-transparent "ghost"
@@ -46,24 +59,27 @@ struct Ghost {
 // What a picture of the scene shows besides the bodies.
 struct View {
     bool ground = true;
-    double ground_height = 0.0;       // m
-    int trail_frames = 0;             // frames of trail behind each moving particle; 0: none
-    double velocity_arrows = 0.0;     // s: an arrow of v * this per moving particle; 0: none
-    bool energy_plot = false;         // total energy over time, bottom right
-    bool hud = true;                  // scene, integrator, dt, t and E, top left
+    double ground_height = 0.0;    // m
+    int trail_frames = 0;          // frames of trail behind each moving particle; 0: none
+    double velocity_arrows = 0.0;  // s: an arrow of v * this per moving particle; 0: none
+    bool energy_plot = false;      // total energy over time, bottom right
+    bool hud = true;               // scene, integrator, dt, t and E, top left
 };
 
 struct SceneDef {
-    std::string name;                  // scene name (file stem)
-    std::filesystem::path file;        // where it was read from
-    std::string description;           // one sentence
+    std::string name;            // scene name (file stem)
+    std::filesystem::path file;  // where it was read from
+    std::string description;     // one sentence
 
     sim::ParticleModel model;
-    std::vector<std::string> particle_names;  // one per particle ("" for unnamed)
-    std::vector<ParticleLook> looks;          // one per particle
+    std::vector<std::string> particle_names;     // one per particle ("" for unnamed)
+    std::vector<ParticleLook> looks;             // one per particle
+    std::vector<BodyLook> bodies;                // ropes, cloths, soft bodies
+    std::vector<std::size_t> drawn_springs;      // model.forces indices of [[forces.springs]], drawn as rods
+    std::vector<render::Color> collider_colors;  // one per model.collisions.colliders entry
     sim::StepSettings step;
-    int frames = 600;                  // frame steps the scene runs
-    std::vector<int> checkpoints;      // frames the golden filmstrip shows, ascending, <= frames
+    int frames = 600;              // frame steps the scene runs
+    std::vector<int> checkpoints;  // frames the golden filmstrip shows, ascending, <= frames
     sim::WatchdogLimits watchdog;
     render::Camera camera;
     View view;
@@ -84,7 +100,8 @@ Override parse_override(const std::string& text);  // "KEY=VALUE"; SceneError wh
 // Reads and validates a scene file. Throws SceneError.
 SceneDef load_scene(const std::filesystem::path& file, const std::vector<Override>& overrides = {});
 // The same from text (tests); `display_name` stands for the file in messages.
-SceneDef parse_scene(std::string_view text, const std::string& display_name, const std::vector<Override>& overrides = {});
+SceneDef parse_scene(std::string_view text, const std::string& display_name,
+                     const std::vector<Override>& overrides = {});
 
 // Shipped scenes: the ordered catalogue (scenes/catalog.txt) and where their
 // files live ($PLAUSIBLE_SCENES_DIR, else the source tree's scenes/).

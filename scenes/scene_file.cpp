@@ -16,6 +16,20 @@
 //   [forces.quadratic_drag] c (N·s²/m²)     [forces.newton_gravity] G, softening
 //   [[forces.springs]] a, b (particle names or indices), rest_length (m; default:
 //                the initial distance), stiffness (N/m), damping (N·s/m)
+//   Bodies (their particles are named "<name>[k]"; links: link = "springs"|"constraints",
+//                stiffness (N/m), damping (N·s/m), compliance (m/N), tethers, strain_colors;
+//                ropes also contain_explosion: its explosion freezes it and the run goes on):
+//   [[ropes]]    name, start, end (m), segments, mass (kg, whole rope), radius (m), pin_start,
+//                pin_end, color, and the link keys
+//   [[cloths]]   name, corner, u, v (m, the two sides), nx, ny (nodes), mass, radius, shear,
+//                bend (stiffness factors), pins = "none"|"corners"|"edge"|"all", color, link keys
+//   [[soft_bodies]] name, corner, size (m), nx, ny, nz, mass, radius, velocity (m/s), color,
+//                link keys, yield_strain, creep (1/s), max_strain (plastic when yield_strain > 0)
+//   [constraints] iterations (Gauss-Seidel sweeps per substep)
+//   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool)
+//   [[colliders]] shape = "plane" (normal, offset m) | "sphere" (center, radius) |
+//                "box" (center, half_extents, rotation = [x, y, z] degrees) | "capsule" (a, b, radius);
+//                color; visible (planes at the ground are not drawn twice)
 //   [watchdog]   enabled, max_speed (m/s), world_half_extent (m), energy_growth, energy_floor (J)
 //   [camera]     projection = "perspective"|"orthographic", eye, target, up, fov (deg), height (m)
 //   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), energy_plot, hud
@@ -27,6 +41,8 @@
 #include "scenes/scene.h"
 
 #include <toml++/toml.h>
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -118,7 +134,10 @@ public:
         : r_(reader), t_(table), path_(std::move(path)) {}
 
     const toml::table& table() const { return t_; }
-    std::string key_path(std::string_view key) const { return path_.empty() ? std::string(key) : path_ + "." + std::string(key); }
+    const std::string& path() const { return path_; }
+    std::string key_path(std::string_view key) const {
+        return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+    }
     const toml::node* node(std::string_view key) const { return t_.get(key); }
     [[noreturn]] void fail(std::string_view key, const std::string& message) const {
         const toml::node* n = node(key);
@@ -147,7 +166,8 @@ public:
         if (n == nullptr) return fallback;
         const auto value = n->value<double>();
         const std::string range = range_text(lo, hi, unit);
-        if (!value || !(n->is_integer() || n->is_floating_point())) fail(key, "must be a number " + range + " (got " + describe(*n) + ")");
+        if (!value || !(n->is_integer() || n->is_floating_point()))
+            fail(key, "must be a number " + range + " (got " + describe(*n) + ")");
         if (!std::isfinite(*value) || *value < lo || *value > hi) {
             fail(key, "must be " + range + " (got " + sim::format_value(*value) + ")");
         }
@@ -161,18 +181,21 @@ public:
         std::string expected = "must be > 0 and finite, in " + std::string(unit);
         if (hi < 1e300) expected = "must be > 0 and at most " + sim::format_value(hi) + ", in " + std::string(unit);
         if (!value || !(n->is_integer() || n->is_floating_point())) fail(key, expected + " (got " + describe(*n) + ")");
-        if (!std::isfinite(*value) || !(*value > 0) || *value > hi) fail(key, expected + " (got " + sim::format_value(*value) + ")");
+        if (!std::isfinite(*value) || !(*value > 0) || *value > hi)
+            fail(key, expected + " (got " + sim::format_value(*value) + ")");
         return *value;
     }
     long long integer(std::string_view key, long long fallback, long long lo, long long hi) const {
         const toml::node* n = node(key);
         if (n == nullptr) return fallback;
         if (!n->is_integer()) {
-            fail(key, "must be an integer within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " + describe(*n) + ")");
+            fail(key, "must be an integer within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " +
+                          describe(*n) + ")");
         }
         const long long v = *n->value<long long>();
         if (v < lo || v > hi) {
-            fail(key, "must be within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " + std::to_string(v) + ")");
+            fail(key, "must be within " + std::to_string(lo) + " .. " + std::to_string(hi) + " (got " +
+                          std::to_string(v) + ")");
         }
         return v;
     }
@@ -187,11 +210,14 @@ public:
         if (n == nullptr) return fallback;
         if (!n->is_string()) fail(key, "must be a string (got " + describe(*n) + ")");
         std::string s = *n->value<std::string>();
-        if (s.size() > max_length) fail(key, "must be at most " + std::to_string(max_length) + " bytes long (got " + std::to_string(s.size()) + ")");
+        if (s.size() > max_length)
+            fail(key, "must be at most " + std::to_string(max_length) + " bytes long (got " + std::to_string(s.size()) +
+                          ")");
         return s;
     }
     // One of a fixed set of words.
-    std::string word(std::string_view key, const std::string& fallback, std::initializer_list<std::string_view> words) const {
+    std::string word(std::string_view key, const std::string& fallback,
+                     std::initializer_list<std::string_view> words) const {
         const std::string s = string(key, fallback);
         std::string list;
         for (std::string_view w : words) {
@@ -230,14 +256,16 @@ public:
                 fail(key, expected + " (got " + quote(*s) + ")");
             }
             return render::Color{static_cast<float>((rgb >> 16) & 0xFF) / 255.0f,
-                                 static_cast<float>((rgb >> 8) & 0xFF) / 255.0f, static_cast<float>(rgb & 0xFF) / 255.0f, 1};
+                                 static_cast<float>((rgb >> 8) & 0xFF) / 255.0f,
+                                 static_cast<float>(rgb & 0xFF) / 255.0f, 1};
         }
         const toml::array* a = n->as_array();
         if (a == nullptr || a->size() != 3) fail(key, expected + " (got " + describe(*n) + ")");
         float c[3];
         for (std::size_t i = 0; i < 3; ++i) {
             const auto x = a->get(i)->value<double>();
-            if (!x || !(*x >= 0.0 && *x <= 1.0)) fail(key, expected + " (got " + describe(*a->get(i)) + " at [" + std::to_string(i) + "])");
+            if (!x || !(*x >= 0.0 && *x <= 1.0))
+                fail(key, expected + " (got " + describe(*a->get(i)) + " at [" + std::to_string(i) + "])");
             c[i] = static_cast<float>(*x);
         }
         return render::Color{c[0], c[1], c[2], 1};
@@ -255,11 +283,15 @@ public:
         const toml::node* n = node(key);
         if (n == nullptr) return out;
         const toml::array* a = n->as_array();
-        if (a == nullptr) fail(key, "must be an array of tables ([[" + key_path(key) + "]]) (got " + describe(*n) + ")");
-        if (a->size() > max_count) fail(key, "may have at most " + std::to_string(max_count) + " entries (got " + std::to_string(a->size()) + ")");
+        if (a == nullptr)
+            fail(key, "must be an array of tables ([[" + key_path(key) + "]]) (got " + describe(*n) + ")");
+        if (a->size() > max_count)
+            fail(key,
+                 "may have at most " + std::to_string(max_count) + " entries (got " + std::to_string(a->size()) + ")");
         for (std::size_t i = 0; i < a->size(); ++i) {
             const toml::node& e = *a->get(i);
-            if (!e.is_table()) r_.fail(&e, key_path(key) + "[" + std::to_string(i) + "] must be a table (got " + describe(e) + ")");
+            if (!e.is_table())
+                r_.fail(&e, key_path(key) + "[" + std::to_string(i) + "] must be a table (got " + describe(e) + ")");
             out.push_back(e.as_table());
         }
         return out;
@@ -286,8 +318,9 @@ constexpr double kHuge = std::numeric_limits<double>::max();
 
 // A palette for particles without a colour: distinct, readable on the light sky.
 render::Color palette(std::size_t i) {
-    static const render::Color colors[] = {{0.90f, 0.33f, 0.12f, 1}, {0.16f, 0.42f, 0.80f, 1}, {0.20f, 0.62f, 0.30f, 1},
-                                           {0.78f, 0.22f, 0.52f, 1}, {0.95f, 0.70f, 0.15f, 1}, {0.35f, 0.30f, 0.70f, 1}};
+    static const render::Color colors[] = {{0.90f, 0.33f, 0.12f, 1}, {0.16f, 0.42f, 0.80f, 1},
+                                           {0.20f, 0.62f, 0.30f, 1}, {0.78f, 0.22f, 0.52f, 1},
+                                           {0.95f, 0.70f, 0.15f, 1}, {0.35f, 0.30f, 0.70f, 1}};
     return colors[i % std::size(colors)];
 }
 
@@ -304,6 +337,7 @@ struct Builder {
         p.pinned = s.boolean("pinned", false);
         if (p.pinned) p.velocity.setZero();
         look.radius = s.positive("radius", 0.1, 100.0, "m");
+        p.radius = look.radius;  // what you see is what collides
         look.color = s.color("color", p.pinned ? render::Color{0.45f, 0.45f, 0.48f, 1} : palette(index));
     }
 
@@ -352,7 +386,195 @@ struct Builder {
                 scene.particle_names.push_back(member);
             }
         }
-        if (scene.model.particles.empty()) r.fail(&top.table(), "a scene needs at least one [[particles]] or [[groups]] entry");
+    }
+
+    // --- Bodies from builders ---------------------------------------------------------
+
+    sim::LinkSettings link_keys(const Section& s, double default_stiffness) {
+        sim::LinkSettings l;
+        l.kind = s.word("link", "springs", {"springs", "constraints"}) == "constraints"
+                     ? sim::LinkSettings::Kind::constraints
+                     : sim::LinkSettings::Kind::springs;
+        l.stiffness = s.number("stiffness", default_stiffness, 0.0, kHuge, "N/m");
+        l.damping = s.number("damping", 0.0, 0.0, kHuge, "N·s/m");
+        l.compliance = s.number("compliance", 0.0, 0.0, kHuge, "m/N");
+        l.tethers = s.boolean("tethers", true);
+        return l;
+    }
+
+    // Names, looks and a BodyLook for the particles a builder just added.
+    void add_body(const Section& s, BodyLook::Kind kind, const sim::BodyRange& range, const std::string& name,
+                  render::Color color, bool nodes_visible, double node_radius) {
+        for (std::uint32_t k = 0; k < range.count; ++k) {
+            const std::size_t i = range.first + k;
+            const std::string member = name.empty() ? "" : name + "[" + std::to_string(k) + "]";
+            add_name(s, member, i);
+            scene.particle_names.push_back(member);
+            ParticleLook look;
+            look.radius = std::max(node_radius, 0.005);
+            look.color = scene.model.particles[i].pinned ? render::Color{0.45f, 0.45f, 0.48f, 1} : color;
+            look.visible = nodes_visible || scene.model.particles[i].pinned;
+            scene.looks.push_back(look);
+        }
+        BodyLook body;
+        body.kind = kind;
+        body.name = name;
+        body.range = range;
+        body.color = color;
+        body.strain_colors = s.boolean("strain_colors", false);
+        scene.bodies.push_back(std::move(body));
+    }
+
+    // Builders throw InputError naming their field; say where in the file.
+    template <typename F>
+    sim::BodyRange build_body(const Section& s, F&& f) {
+        try {
+            return f();
+        } catch (const sim::InputError& e) {
+            r.fail(&s.table(), s.path() + ": " + e.what());
+        }
+    }
+
+    void bodies(const Section& top) {
+        const auto ropes = top.tables("ropes", 10'000);
+        for (std::size_t k = 0; k < ropes.size(); ++k) {
+            const Section s(r, *ropes[k], "ropes[" + std::to_string(k) + "]");
+            s.only({"name", "start", "end", "segments", "mass", "radius", "pin_start", "pin_end", "color", "link",
+                    "stiffness", "damping", "compliance", "tethers", "strain_colors", "contain_explosion"});
+            sim::RopeDef d;
+            d.start = s.vec3("start", d.start, "m");
+            d.end = s.vec3("end", d.end, "m");
+            if ((d.end - d.start).norm() == 0.0) s.fail("end", "must differ from start");
+            d.segments = static_cast<int>(s.integer("segments", d.segments, 1, 4096));
+            d.mass = s.positive("mass", d.mass, kHuge, "kg");
+            d.radius = s.positive("radius", d.radius, 100.0, "m");
+            d.pin_start = s.boolean("pin_start", d.pin_start);
+            d.pin_end = s.boolean("pin_end", d.pin_end);
+            d.links = link_keys(s, 1000.0);
+            const render::Color color = s.color("color", palette(scene.bodies.size()));
+            const auto range = build_body(s, [&] { return sim::add_rope(scene.model, d); });
+            const std::string name = s.string("name", "rope" + std::to_string(k), 64);
+            add_body(s, BodyLook::Kind::rope, range, name, color, true, d.radius);
+            if (s.boolean("contain_explosion", false))
+                scene.watchdog.contain.push_back({name, range.first, range.count});
+        }
+        const auto cloths = top.tables("cloths", 1'000);
+        for (std::size_t k = 0; k < cloths.size(); ++k) {
+            const Section s(r, *cloths[k], "cloths[" + std::to_string(k) + "]");
+            s.only({"name", "corner", "u", "v", "nx", "ny", "mass", "radius", "shear", "bend", "pins", "color", "link",
+                    "stiffness", "damping", "compliance", "tethers", "strain_colors"});
+            sim::ClothDef d;
+            d.corner = s.vec3("corner", d.corner, "m");
+            d.u = s.vec3("u", d.u, "m");
+            d.v = s.vec3("v", d.v, "m");
+            if (d.u.cross(d.v).norm() < 1e-12) s.fail("v", "must be non-zero and not parallel to u");
+            d.nx = static_cast<int>(s.integer("nx", d.nx, 2, 1024));
+            d.ny = static_cast<int>(s.integer("ny", d.ny, 2, 1024));
+            d.mass = s.positive("mass", d.mass, kHuge, "kg");
+            d.radius = s.number("radius", d.radius, 0.0, 100.0, "m");
+            d.shear = s.number("shear", d.shear, 0.0, 1e6, "(a factor)");
+            d.bend = s.number("bend", d.bend, 0.0, 1e6, "(a factor)");
+            const std::string pins = s.word("pins", "corners", {"none", "corners", "edge", "all"});
+            d.pins = pins == "none"   ? sim::ClothDef::Pins::none
+                     : pins == "edge" ? sim::ClothDef::Pins::edge
+                     : pins == "all"  ? sim::ClothDef::Pins::all
+                                      : sim::ClothDef::Pins::corners;
+            d.links = link_keys(s, 1000.0);
+            const render::Color color = s.color("color", render::Color{0.75f, 0.2f, 0.2f, 1});
+            const auto range = build_body(s, [&] { return sim::add_cloth(scene.model, d); });
+            add_body(s, BodyLook::Kind::cloth, range, s.string("name", "cloth" + std::to_string(k), 64), color, false,
+                     d.radius);
+        }
+        const auto softs = top.tables("soft_bodies", 1'000);
+        for (std::size_t k = 0; k < softs.size(); ++k) {
+            const Section s(r, *softs[k], "soft_bodies[" + std::to_string(k) + "]");
+            s.only({"name", "corner", "size", "nx", "ny", "nz", "mass", "radius", "velocity", "color", "link",
+                    "stiffness", "damping", "compliance", "tethers", "strain_colors", "yield_strain", "creep",
+                    "max_strain"});
+            sim::LatticeDef d;
+            d.corner = s.vec3("corner", d.corner, "m");
+            d.size = s.vec3("size", d.size, "m");
+            for (int a = 0; a < 3; ++a) {
+                if (!(d.size[a] > 0)) s.fail("size", "must have three sizes > 0, in m");
+            }
+            d.nx = static_cast<int>(s.integer("nx", d.nx, 2, 256));
+            d.ny = static_cast<int>(s.integer("ny", d.ny, 2, 256));
+            d.nz = static_cast<int>(s.integer("nz", d.nz, 2, 256));
+            d.mass = s.positive("mass", d.mass, kHuge, "kg");
+            d.radius = s.number("radius", d.radius, 0.0, 100.0, "m");
+            d.velocity = s.vec3("velocity", d.velocity, "m/s");
+            d.links = link_keys(s, 1000.0);
+            d.plasticity.yield_strain = s.number("yield_strain", 0.0, 0.0, 0.99, "(a strain)");
+            d.plasticity.creep = s.number("creep", d.plasticity.yield_strain > 0 ? 10.0 : 0.0, 0.0, 1e6, "1/s");
+            d.plasticity.max_strain = s.number("max_strain", d.plasticity.max_strain, 0.0, 0.99, "(a strain)");
+            const render::Color color = s.color("color", palette(scene.bodies.size()));
+            const auto range = build_body(s, [&] { return sim::add_lattice(scene.model, d); });
+            add_body(s, BodyLook::Kind::soft_body, range, s.string("name", "soft_body" + std::to_string(k), 64), color,
+                     false, d.radius);
+        }
+        if (scene.model.particles.empty()) {
+            r.fail(
+                &top.table(),
+                "a scene needs at least one [[particles]], [[groups]], [[ropes]], [[cloths]] or [[soft_bodies]] entry");
+        }
+    }
+
+    void constraints(const Section& top) {
+        const toml::table* t = top.subtable("constraints");
+        if (t == nullptr) return;
+        const Section s(r, *t, "constraints");
+        s.only({"iterations"});
+        scene.model.constraints.iterations = static_cast<int>(s.integer("iterations", 1, 1, 1000));
+    }
+
+    void collisions(const Section& top) {
+        sim::Collisions& c = scene.model.collisions;
+        if (const toml::table* t = top.subtable("collisions")) {
+            const Section s(r, *t, "collisions");
+            s.only({"restitution", "friction", "rest_speed", "particles"});
+            c.restitution = s.number("restitution", c.restitution, 0.0, 1.0, "(0 .. 1)");
+            c.friction = s.number("friction", c.friction, 0.0, 100.0, "(Coulomb μ)");
+            c.rest_speed = s.number("rest_speed", c.rest_speed, 0.0, kHuge, "m/s");
+            c.particle_particle = s.boolean("particles", false);
+        }
+        const auto list = top.tables("colliders", 10'000);
+        for (std::size_t k = 0; k < list.size(); ++k) {
+            const Section s(r, *list[k], "colliders[" + std::to_string(k) + "]");
+            const std::string shape = s.word("shape", "", {"plane", "sphere", "box", "capsule"});
+            render::Color color = s.color("color", render::Color{0.6f, 0.62f, 0.66f, 1});
+            color.a = s.boolean("visible", true) ? 1.0f : 0.0f;
+            if (shape == "plane") {
+                s.only({"shape", "normal", "offset", "color", "visible"});
+                const sim::Vec3 n = s.vec3("normal", sim::Vec3::UnitY(), "(a direction)");
+                if (n.norm() < 1e-9) s.fail("normal", "must be a non-zero direction");
+                c.colliders.push_back(sim::PlaneCollider{n.normalized(), s.number("offset", 0.0, -1e6, 1e6, "m")});
+            } else if (shape == "sphere") {
+                s.only({"shape", "center", "radius", "color", "visible"});
+                c.colliders.push_back(
+                    sim::SphereCollider{s.vec3("center", sim::Vec3::Zero(), "m"), s.positive("radius", 1.0, 1e6, "m")});
+            } else if (shape == "box") {
+                s.only({"shape", "center", "half_extents", "rotation", "color", "visible"});
+                sim::BoxCollider b;
+                b.center = s.vec3("center", b.center, "m");
+                b.half_extents = s.vec3("half_extents", b.half_extents, "m");
+                for (int a = 0; a < 3; ++a) {
+                    if (!(b.half_extents[a] > 0)) s.fail("half_extents", "must be three lengths > 0, in m");
+                }
+                const sim::Vec3 deg =
+                    s.vec3("rotation", sim::Vec3::Zero(), "degrees", 360.0) * (std::numbers::pi / 180.0);
+                b.rotation =
+                    (Eigen::AngleAxisd(deg.z(), sim::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y(), sim::Vec3::UnitY()) *
+                     Eigen::AngleAxisd(deg.x(), sim::Vec3::UnitX()))
+                        .toRotationMatrix();
+                c.colliders.push_back(b);
+            } else {
+                s.only({"shape", "a", "b", "radius", "color", "visible"});
+                c.colliders.push_back(sim::CapsuleCollider{s.vec3("a", sim::Vec3::Zero(), "m"),
+                                                           s.vec3("b", sim::Vec3::UnitY(), "m"),
+                                                           s.positive("radius", 0.25, 1e6, "m")});
+            }
+            scene.collider_colors.push_back(color);
+        }
     }
 
     // A particle named by its name or its index.
@@ -365,7 +587,8 @@ struct Builder {
         }
         if (n->is_integer()) {
             const long long i = *n->value<long long>();
-            if (i >= 0 && static_cast<std::size_t>(i) < scene.model.particles.size()) return static_cast<std::size_t>(i);
+            if (i >= 0 && static_cast<std::size_t>(i) < scene.model.particles.size())
+                return static_cast<std::size_t>(i);
             s.fail(key, "must be a particle index within 0 .. " + std::to_string(scene.model.particles.size() - 1) +
                             " (got " + std::to_string(i) + ")");
         }
@@ -395,8 +618,8 @@ struct Builder {
         if (const toml::table* n = f.subtable("newton_gravity")) {
             const Section s(r, *n, "forces.newton_gravity");
             s.only({"G", "softening"});
-            scene.model.forces.push_back(
-                sim::NewtonGravity{s.positive("G", 6.674e-11, kHuge, "m³/(kg·s²)"), s.number("softening", 0.0, 0.0, kHuge, "m")});
+            scene.model.forces.push_back(sim::NewtonGravity{s.positive("G", 6.674e-11, kHuge, "m³/(kg·s²)"),
+                                                            s.number("softening", 0.0, 0.0, kHuge, "m")});
         }
         const auto springs = f.tables("springs", kMaxSprings);
         if (!springs.empty()) {
@@ -406,7 +629,8 @@ struct Builder {
                 s.only({"a", "b", "rest_length", "stiffness", "damping"});
                 sim::Spring spring;
                 const std::size_t a = particle_ref(s, "a"), b = particle_ref(s, "b");
-                if (a == b) s.fail("b", "must be another particle than a (both are particle " + std::to_string(a) + ")");
+                if (a == b)
+                    s.fail("b", "must be another particle than a (both are particle " + std::to_string(a) + ")");
                 spring.i = static_cast<std::uint32_t>(a);
                 spring.j = static_cast<std::uint32_t>(b);
                 const double initial = (scene.model.particles[a].position - scene.model.particles[b].position).norm();
@@ -415,6 +639,7 @@ struct Builder {
                 spring.c = s.number("damping", 0.0, 0.0, kHuge, "N·s/m");
                 list.list.push_back(spring);
             }
+            scene.drawn_springs.push_back(scene.model.forces.size());
             scene.model.forces.push_back(std::move(list));
         }
     }
@@ -519,7 +744,9 @@ struct Builder {
         }
         return nullptr;
     }
-    bool has_drag() const { return find_force<sim::LinearDrag>() != nullptr || find_force<sim::QuadraticDrag>() != nullptr; }
+    bool has_drag() const {
+        return find_force<sim::LinearDrag>() != nullptr || find_force<sim::QuadraticDrag>() != nullptr;
+    }
     // The spring joining particles a and b, or none.
     const sim::Spring* spring_between(std::size_t a, std::size_t b) const {
         if (const sim::Springs* s = find_force<sim::Springs>()) {
@@ -559,7 +786,9 @@ struct Builder {
                 const std::size_t a = pinned_ref("anchor");
                 const sim::Spring* sp = spring_between(g.particle, a);
                 if (sp == nullptr || sp->rest != 0.0 || coupled != 1 || gravity != nullptr || has_drag()) {
-                    s.fail("solution", "'oscillator' needs exactly one zero-rest-length spring to the anchor, and no gravity or drag");
+                    s.fail(
+                        "solution",
+                        "'oscillator' needs exactly one zero-rest-length spring to the anchor, and no gravity or drag");
                 }
                 const sim::analytic::Oscillator o{p.mass, sp->k, sp->c};
                 const sim::Vec3 anchor = scene.model.particles[a].position;
@@ -573,11 +802,13 @@ struct Builder {
                 const sim::NewtonGravity* ng = find_force<sim::NewtonGravity>();
                 if (ng == nullptr || ng->softening != 0.0 || gravity != nullptr || has_drag() || coupled > 0 ||
                     scene.model.particles.size() != 2) {
-                    s.fail("solution", "'kepler' needs two particles, Newtonian gravity without softening, and no other force");
+                    s.fail("solution",
+                           "'kepler' needs two particles, Newtonian gravity without softening, and no other force");
                 }
                 const double mu = ng->G * scene.model.particles[c].mass;
                 const sim::Vec3 centre = scene.model.particles[c].position;
-                if ((v0.squaredNorm() / 2 - mu / (x0 - centre).norm()) >= 0) s.fail("particle", "is not on a bound orbit (energy >= 0)");
+                if ((v0.squaredNorm() / 2 - mu / (x0 - centre).norm()) >= 0)
+                    s.fail("particle", "is not on a bound orbit (energy >= 0)");
                 g.exact = [=](double t) {
                     sim::analytic::PointState st = sim::analytic::kepler(mu, x0 - centre, v0, t);
                     st.x += centre;
@@ -600,7 +831,8 @@ struct Builder {
                 side = side.norm() > 0 ? sim::Vec3(side.normalized()) : sim::Vec3::UnitX();
                 const double theta_dot0 = v0.dot(side) / length;
                 if (std::abs(theta0) > 30.0 * std::numbers::pi / 180.0) {
-                    s.fail("particle", "starts more than 30 degrees from the vertical: the small-angle closed form does not hold");
+                    s.fail("particle",
+                           "starts more than 30 degrees from the vertical: the small-angle closed form does not hold");
                 }
                 g.exact = [=](double t) {
                     const auto ang = sim::analytic::small_angle_pendulum(length, gn, theta0, theta_dot0, t);
@@ -639,7 +871,8 @@ void apply_override(toml::table& root, const Override& o, Reader& reader) {
         if (const auto open = name.find('['); open != std::string::npos) {
             char* end = nullptr;
             const unsigned long i = std::strtoul(name.c_str() + open + 1, &end, 10);
-            if (end == name.c_str() + open + 1 || *end != ']' || end[1] != '\0') fail("malformed index in " + quote(name));
+            if (end == name.c_str() + open + 1 || *end != ']' || end[1] != '\0')
+                fail("malformed index in " + quote(name));
             index = i;
             name = name.substr(0, open);
         }
@@ -680,15 +913,19 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     scene.name = name;
     const Section top(reader, root, "");
     if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
-    top.only({"description", "frames", "checkpoints", "step", "particles", "groups", "forces", "watchdog", "camera",
-              "view", "ghosts"});
-    if (top.node("description") == nullptr) reader.fail(&root, "description is required: one sentence saying what the scene shows");
+    top.only({"description", "frames", "checkpoints", "step", "particles", "groups", "ropes", "cloths", "soft_bodies",
+              "forces", "constraints", "collisions", "colliders", "watchdog", "camera", "view", "ghosts"});
+    if (top.node("description") == nullptr)
+        reader.fail(&root, "description is required: one sentence saying what the scene shows");
     scene.description = top.string("description", "", 300);
     Builder b{reader, scene, {}};
     b.timing(top);
     b.step(top);
     b.particles(top);
+    b.bodies(top);
     b.forces(top);
+    b.constraints(top);
+    b.collisions(top);
     b.watchdog(top);
     b.camera(top);
     b.view(top);
@@ -723,9 +960,17 @@ SceneDef parse_with(std::string_view text, const std::string& display, const std
 
 std::vector<std::string> SceneDef::systems() const {
     std::vector<std::string> out = {"particles"};
+    bool springs = false, plastic = false;
     for (const sim::ForceDef& f : model.forces) {
-        if (std::holds_alternative<sim::Springs>(f)) out.push_back("springs");
+        if (const auto* s = std::get_if<sim::Springs>(&f)) {
+            springs = true;
+            plastic = plastic || s->plasticity.enabled();
+        }
     }
+    if (springs) out.push_back("springs");
+    if (!model.constraints.empty()) out.push_back("constraints");
+    if (!model.collisions.empty()) out.push_back("collisions");
+    if (plastic) out.push_back("plasticity");
     if (watchdog.enabled) out.push_back("watchdog");
     return out;
 }
@@ -747,7 +992,9 @@ SceneDef load_scene(const std::filesystem::path& file, const std::vector<Overrid
     std::error_code error;
     const auto size = std::filesystem::file_size(file, error);
     if (error) throw SceneError(file.string() + ": cannot read the scene file (" + error.message() + ")");
-    if (size > kMaxBytes) throw SceneError(file.string() + ": " + std::to_string(size) + " bytes is too large for a scene file (at most 16 MiB)");
+    if (size > kMaxBytes)
+        throw SceneError(file.string() + ": " + std::to_string(size) +
+                         " bytes is too large for a scene file (at most 16 MiB)");
     std::ifstream in(file, std::ios::binary);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in && !in.eof()) throw SceneError(file.string() + ": cannot read the scene file");

@@ -18,7 +18,27 @@ std::string format(const char* pattern, double value) {
     return text;
 }
 
+template <class... Ts>
+struct Overloaded : Ts... {
+    using Ts::operator()...;
+};
+
+// A link's colour by its strain: the body's colour at rest, towards red when
+// stretched and blue when compressed, saturating at 10%.
+render::Color strain_color(render::Color base, double strain) {
+    const float t = static_cast<float>(std::clamp(std::abs(strain) / 0.1, 0.0, 1.0));
+    const render::Color to = strain > 0 ? render::Color{0.9f, 0.08f, 0.05f, 1} : render::Color{0.1f, 0.3f, 0.95f, 1};
+    return render::Color{base.r + t * (to.r - base.r), base.g + t * (to.g - base.g), base.b + t * (to.b - base.b),
+                         base.a};
+}
+
 }  // namespace
+
+double SceneRun::link_strain(std::uint32_t a, std::uint32_t b) const {
+    const double rest = (scene_.model.particles[a].position - scene_.model.particles[b].position).norm();
+    if (rest <= 0.0) return 0.0;
+    return ((world_.state().x.get(a) - world_.state().x.get(b)).norm() - rest) / rest;
+}
 
 std::string format_dt(double dt) {
     const double hz = 1.0 / dt;
@@ -67,9 +87,71 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
     list.ground.height = static_cast<float>(scene_.view.ground_height);
     const sim::ParticleState& s = world_.state();
 
+    // Colliders, in their colours (invisible ones, such as a plane that is the ground, skipped).
+    for (std::size_t k = 0; k < scene_.model.collisions.colliders.size(); ++k) {
+        const render::Look look{scene_.collider_colors[k]};
+        if (look.color.a == 0.0f) continue;
+        std::visit(
+            Overloaded{
+                [&](const sim::PlaneCollider& p) {
+                    list.planes.push_back(render::Plane{to_render(p.normal * p.offset), to_render(p.normal),
+                                                        render::Vec2(8.0f, 8.0f), look});
+                },
+                [&](const sim::SphereCollider& c) {
+                    list.spheres.push_back(render::Sphere{to_render(c.center), static_cast<float>(c.radius), look});
+                },
+                [&](const sim::BoxCollider& b) {
+                    list.boxes.push_back(render::Box{to_render(b.center), to_render(b.half_extents),
+                                                     Eigen::Quaternionf(b.rotation.cast<float>()), look});
+                },
+                [&](const sim::CapsuleCollider& c) {
+                    list.capsules.push_back(
+                        render::Capsule{to_render(c.a), to_render(c.b), static_cast<float>(c.radius), look});
+                },
+            },
+            scene_.model.collisions.colliders[k]);
+    }
+
+    // Bodies: ropes as rods through their nodes, cloth and soft bodies as meshes.
+    for (const BodyLook& body : scene_.bodies) {
+        const sim::BodyRange& r = body.range;
+        if (body.kind == BodyLook::Kind::rope) {
+            for (const auto& [a, b] : r.links) {
+                render::Color color = body.color;
+                if (body.strain_colors) color = strain_color(body.color, link_strain(a, b));
+                list.cylinders.push_back(render::Cylinder{to_render(s.x.get(a)), to_render(s.x.get(b)),
+                                                          static_cast<float>(scene_.looks[a].radius),
+                                                          render::Look{color}});
+            }
+            continue;
+        }
+        render::Mesh mesh;
+        mesh.look.color = body.color;
+        mesh.positions.reserve(r.count);
+        for (std::uint32_t k = 0; k < r.count; ++k) mesh.positions.push_back(to_render(s.x.get(r.first + k)));
+        mesh.indices.reserve(3 * r.surface.size());
+        for (const auto& tri : r.surface) {
+            for (std::uint32_t v : tri) mesh.indices.push_back(v - r.first);
+        }
+        if (body.strain_colors) {
+            // Per vertex: the largest |strain| of its links, signed.
+            std::vector<double> strain(r.count, 0.0);
+            for (const auto& [a, b] : r.links) {
+                const double e = link_strain(a, b);
+                for (std::uint32_t v : {a, b}) {
+                    double& cur = strain[v - r.first];
+                    if (std::abs(e) > std::abs(cur)) cur = e;
+                }
+            }
+            mesh.colors.reserve(r.count);
+            for (double e : strain) mesh.colors.push_back(strain_color(body.color, e));
+        }
+        list.meshes.push_back(std::move(mesh));
+    }
+
     // Springs as cylinders, thinner than the particles they join.
-    for (const sim::ForceDef& f : scene_.model.forces) {
-        if (const auto* springs = std::get_if<sim::Springs>(&f)) {
+    for (std::size_t index : scene_.drawn_springs) {
+        if (const auto* springs = std::get_if<sim::Springs>(&scene_.model.forces[index])) {
             for (const sim::Spring& sp : springs->list) {
                 const double r = 0.25 * std::min(scene_.looks[sp.i].radius, scene_.looks[sp.j].radius);
                 list.cylinders.push_back(render::Cylinder{to_render(s.x.get(sp.i)), to_render(s.x.get(sp.j)),
@@ -80,13 +162,15 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
     }
     for (std::size_t i = 0; i < s.size(); ++i) {
         const ParticleLook& look = scene_.looks[i];
-        list.spheres.push_back(render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
+        if (!look.visible) continue;
+        list.spheres.push_back(
+            render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
         if (s.inv_mass[i] != 0.0 && scene_.view.velocity_arrows > 0) {
             const sim::Vec3 v = s.v.get(i) * scene_.view.velocity_arrows;
             if (v.norm() > look.radius) {
-                list.arrows.push_back(render::Arrow{to_render(s.x.get(i)), to_render(v), 0.2f * static_cast<float>(look.radius),
-                                                    0.45f * static_cast<float>(look.radius),
-                                                    render::Look{render::Color{0.15f, 0.6f, 0.25f, 1}}});
+                list.arrows.push_back(render::Arrow{
+                    to_render(s.x.get(i)), to_render(v), 0.2f * static_cast<float>(look.radius),
+                    0.45f * static_cast<float>(look.radius), render::Look{render::Color{0.15f, 0.6f, 0.25f, 1}}});
             }
         }
         const auto& trail = trails_[i];
@@ -114,11 +198,19 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
         if (scene_.step.substeps > 1) title += " / " + std::to_string(scene_.step.substeps);
         list.texts.push_back(render::Text{title, render::Vec2(0.5f * text, 0.4f * text), text,
                                           render::Color{0.1f, 0.1f, 0.12f, 1}, true});
-        const std::string state = "t = " + format("%.2f", time()) + " s   E = " + format("%.5g", world_.energy()) + " J";
+        const std::string state =
+            "t = " + format("%.2f", time()) + " s   E = " + format("%.5g", world_.energy()) + " J";
         list.texts.push_back(render::Text{state, render::Vec2(0.5f * text, 1.9f * text), 0.85f * text,
                                           render::Color{0.2f, 0.2f, 0.25f, 1}, true});
+        float line = 3.2f;
+        for (const auto& c : world_.contained()) {
+            list.texts.push_back(render::Text{
+                c.name + ": exploded at frame " + std::to_string(c.verdict.frame) + " (frozen)",
+                render::Vec2(0.5f * text, line * text), 0.8f * text, render::Color{0.8f, 0.05f, 0.05f, 1}, true});
+            line += 1.2f;
+        }
         if (verdict().exploded()) {
-            list.texts.push_back(render::Text{verdict().message(scene_.name), render::Vec2(0.5f * text, 3.2f * text),
+            list.texts.push_back(render::Text{verdict().message(scene_.name), render::Vec2(0.5f * text, line * text),
                                               0.8f * text, render::Color{0.8f, 0.05f, 0.05f, 1}, true});
         }
     }

@@ -37,6 +37,7 @@ public:
 
 private:
     void record();
+    double link_strain(std::uint32_t a, std::uint32_t b) const;  // (length - built length) / built length
 
     const SceneDef& scene_;
     sim::World world_;

@@ -39,7 +39,12 @@ void validate(const WatchdogLimits& limits) {
     positive(limits.world_half_extent, "world_half_extent", "m");
     positive(limits.energy_floor, "energy_floor", "J");
     if (!std::isfinite(limits.energy_growth) || (limits.energy_growth != 0.0 && limits.energy_growth < 1.0)) {
-        throw InputError("watchdog.energy_growth must be 0 (off) or >= 1 (got " + format_value(limits.energy_growth) + ")");
+        throw InputError("watchdog.energy_growth must be 0 (off) or >= 1 (got " + format_value(limits.energy_growth) +
+                         ")");
+    }
+    if (!limits.contain.empty() && limits.energy_growth != 0.0) {
+        throw InputError("watchdog.energy_growth must be 0 (off) when explosions are contained (" +
+                         limits.contain.front().name + "): the energy rule cannot tell whose energy grew");
     }
 }
 
@@ -104,8 +109,8 @@ std::string Verdict::message(std::string_view scene) const {
         return text + "particle " + std::to_string(index) + " is " + short_value(value) +
                " m from the origin along an axis, outside the world box (" + short_value(limit) + " m)";
     }
-    return text + "energy " + short_value(value) + " J > " + short_value(limit) + " J (E0 = " +
-           short_value(initial_energy) + " J)";
+    return text + "energy " + short_value(value) + " J > " + short_value(limit) +
+           " J (E0 = " + short_value(initial_energy) + " J)";
 }
 
 }  // namespace sim

@@ -10,8 +10,19 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace sim {
+
+// Particles whose explosion is part of the lesson (the stiff spring rope
+// beside the XPBD one): when the first violation is one of theirs, the range
+// is frozen where it was at the start of that substep (pinned, at rest) and
+// the run goes on; the verdict is kept in World::contained().
+struct ContainedRange {
+    std::string name;         // what the messages call it ("spring rope")
+    std::uint32_t first = 0;  // particles [first, first + count)
+    std::uint32_t count = 0;
+};
 
 struct WatchdogLimits {
     bool enabled = true;
@@ -20,7 +31,10 @@ struct WatchdogLimits {
     // Energy growth: 0 is off (scenes whose energy may grow: driven, scripted).
     // Otherwise exploded when E - E0 > (energy_growth - 1) max(|E0|, energy_floor).
     double energy_growth = 0.0;
-    double energy_floor = 1e-6;        // J; keeps the energy test meaningful when E0 is near 0
+    double energy_floor = 1e-6;  // J; keeps the energy test meaningful when E0 is near 0
+    // Contained explosions (see ContainedRange). The energy rule cannot say
+    // which particles blew up, so it cannot be combined with them.
+    std::vector<ContainedRange> contain;
 };
 
 // Throws InputError naming the field and value, e.g.
@@ -30,11 +44,11 @@ void validate(const WatchdogLimits& limits);
 struct Verdict {
     enum class Status { ok, exploded };
     Status status = Status::ok;
-    std::uint64_t frame = 0;  // the frame step (World::step call, 1-based) in which it was detected
-    std::string quantity;     // "position" or "velocity" (non-finite), "speed", "bounds", "energy"
-    std::size_t index = 0;    // particle index (0 for energy)
-    double value = 0.0;       // the offending value in the quantity's unit (m, m/s, J); NaN for non-finite
-    double limit = 0.0;       // the limit it broke
+    std::uint64_t frame = 0;      // the frame step (World::step call, 1-based) in which it was detected
+    std::string quantity;         // "position" or "velocity" (non-finite), "speed", "bounds", "energy"
+    std::size_t index = 0;        // particle index (0 for energy)
+    double value = 0.0;           // the offending value in the quantity's unit (m, m/s, J); NaN for non-finite
+    double limit = 0.0;           // the limit it broke
     double initial_energy = 0.0;  // J, E0 (energy verdicts)
 
     bool exploded() const { return status == Status::exploded; }

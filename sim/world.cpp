@@ -54,6 +54,13 @@ World::World(ParticleModel model)
 
 void World::set_watchdog(const WatchdogLimits& limits) {
     validate(limits);
+    for (const ContainedRange& r : limits.contain) {
+        if (static_cast<std::size_t>(r.first) + r.count > state_.size()) {
+            throw InputError("watchdog.contain (" + r.name + ") covers particles up to " +
+                             std::to_string(static_cast<std::size_t>(r.first) + r.count) + ", but there are only " +
+                             std::to_string(state_.size()));
+        }
+    }
     watchdog_ = limits;
     initial_energy_ = energy();
 }
@@ -83,6 +90,7 @@ void World::restore(const Snapshot& snapshot) {
     frames_ = snapshot.frames;
     initial_energy_ = snapshot.initial_energy;
     verdict_ = snapshot.verdict;
+    contained_ = snapshot.contained;
     std::size_t next = 0;
     for (std::size_t k = 0; k < live_forces_.size(); ++k) {
         if (rest0_[k].empty()) continue;
@@ -99,11 +107,14 @@ void World::step(const StepSettings& settings) {
     const bool constrained = !model_.constraints.empty();
     const bool colliding = !model_.collisions.empty();
     const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
-    auto seconds = [](Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
+    auto seconds = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double>(b - a).count();
+    };
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         auto mark = Clock::now();
-        if (colliding) x_start_ = state_.x;  // continuous collision detection sweeps from here
-        step_once(settings.integrator, h);   // forces and integration
+        // Continuous collision detection sweeps from here; a contained explosion freezes here.
+        if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
+        step_once(settings.integrator, h);  // forces and integration
         auto now = Clock::now();
         times_.particles += seconds(mark, now);
         if (constrained) {
@@ -129,11 +140,32 @@ void World::step(const StepSettings& settings) {
         }
         if (watchdog_.enabled) {
             mark = now;
-            // The energy rule costs a potential-energy pass: only when asked for.
-            const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
-            verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+            watch();
             times_.watchdog += seconds(mark, Clock::now());
         }
+    }
+}
+
+void World::watch() {
+    for (;;) {
+        // The energy rule costs a potential-energy pass: only when asked for.
+        const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
+        verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+        if (!verdict_.exploded() || verdict_.quantity == "energy") return;
+        const auto range = std::find_if(watchdog_.contain.begin(), watchdog_.contain.end(), [&](const auto& r) {
+            return verdict_.index >= r.first && verdict_.index < r.first + r.count;
+        });
+        if (range == watchdog_.contain.end()) return;
+        // Contained: freeze the range where it was before this substep (finite,
+        // within the limits), pinned and at rest, and look again.
+        contained_.push_back({range->name, verdict_});
+        for (std::uint32_t i = range->first; i < range->first + range->count; ++i) {
+            state_.x.set(i, x_start_.get(i));
+            state_.v.set(i, Vec3::Zero());
+            state_.inv_mass[i] = 0.0;
+        }
+        memory_valid_ = false;
+        verdict_ = {};
     }
 }
 

@@ -59,6 +59,13 @@ public:
     void set_watchdog(const WatchdogLimits& limits);
     const WatchdogLimits& watchdog() const { return watchdog_; }
     const Verdict& verdict() const { return verdict_; }
+    // Explosions the watchdog contained (WatchdogLimits::contain), in order:
+    // the verdict and the name of the range it froze.
+    struct Contained {
+        std::string name;
+        Verdict verdict;
+    };
+    const std::vector<Contained>& contained() const { return contained_; }
     std::uint64_t frames() const { return frames_; }  // step() calls so far
 
     // Wall time spent per system, accumulated: what a frame budget goes to.
@@ -97,6 +104,7 @@ public:
         double initial_energy = 0.0;
         Verdict verdict;
         std::vector<double> plastic_rest;  // m, rest lengths of plastic springs, in force order
+        std::vector<Contained> contained;
     };
     Snapshot snapshot() const;
     // Throws InputError when the snapshot is of another model (particle count).
@@ -118,16 +126,17 @@ private:
     void step_once(Integrator integrator, double h);
     void solve_constraints(double h);  // positions projected, velocities corrected
     void plasticity(double h);
+    void watch();  // the watchdog after a substep, containing what it may
 
     ParticleModel model_;
     ParticleState state_;
-    std::vector<ForceDef> live_forces_;            // model_.forces, with plastic rest lengths as they are now
-    std::vector<std::vector<double>> rest0_;       // built rest lengths per force (plastic springs only)
+    std::vector<ForceDef> live_forces_;       // model_.forces, with plastic rest lengths as they are now
+    std::vector<std::vector<double>> rest0_;  // built rest lengths per force (plastic springs only)
     ParticleForces forces_;
-    std::vector<double> radius_;                   // (n) m, collision radius
-    Vec3Array x_start_;                            // positions at the start of the substep
-    Vec3Array x_predicted_;                        // positions after the integrator, before the constraints
-    std::vector<double> lambda_;                   // XPBD multipliers of the substep
+    std::vector<double> radius_;  // (n) m, collision radius
+    Vec3Array x_start_;           // positions at the start of the substep
+    Vec3Array x_predicted_;       // positions after the integrator, before the constraints
+    std::vector<double> lambda_;  // XPBD multipliers of the substep
     CollisionScratch collision_scratch_;
 
     // Integrator memory and scratch (see StepArrays).
@@ -142,6 +151,7 @@ private:
     WatchdogLimits watchdog_;
     double initial_energy_ = 0.0;  // J, E0 for the watchdog's energy rule
     Verdict verdict_;
+    std::vector<Contained> contained_;
     std::uint64_t frames_ = 0;
     SystemTimes times_;
 };

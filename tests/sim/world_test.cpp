@@ -203,6 +203,41 @@ TEST(Rewind, RefusesASnapshotOfAnotherModel) {
     EXPECT_EQ(error_of([&] { one.restore(two.snapshot()); }), "snapshot has 2 particles, the world has 1");
 }
 
+TEST(Watchdog, AContainedExplosionFreezesItsRangeAndTheRunGoesOn) {
+    // Particles 0-1: a stiff spring at ω dt = 16.7 (explodes within frames),
+    // contained; particle 2 falls freely beside them and must not notice.
+    ParticleModel model;
+    model.particles.push_back({Vec3(0, 1, 0), Vec3::Zero(), 1.0, true});
+    model.particles.push_back({Vec3(1.01, 1, 0), Vec3::Zero(), 1.0, false});
+    model.particles.push_back({Vec3(3, 10, 0), Vec3::Zero(), 1.0, false});
+    model.forces.push_back(Springs{{{0, 1, 1.0, 1e6, 0.0}}});
+    model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+    World world(std::move(model));
+    WatchdogLimits limits;
+    limits.contain.push_back({"stiff spring", 0, 2});
+    world.set_watchdog(limits);
+    for (int i = 0; i < 60; ++i) world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+    EXPECT_FALSE(world.verdict().exploded()) << world.verdict().message("contained");
+    ASSERT_EQ(world.contained().size(), 1u);
+    EXPECT_EQ(world.contained()[0].name, "stiff spring");
+    EXPECT_EQ(world.contained()[0].verdict.index, 1u);
+    EXPECT_TRUE(world.state().x.get(1).allFinite());
+    EXPECT_EQ(world.state().v.get(1), Vec3::Zero()) << "frozen";
+    EXPECT_EQ(world.state().inv_mass[1], 0.0);
+    // The free particle fell as symplectic Euler says: y_n = y0 - g h² n(n+1)/2.
+    const double h = 1.0 / 60.0;
+    EXPECT_NEAR(world.state().x.get(2).y(), 10.0 - 9.81 * h * h * 60 * 61 / 2, 1e-9) << "m";
+
+    // An explosion outside the contained range still stops the run.
+    WatchdogLimits other;
+    other.contain.push_back({"the falling one", 2, 1});
+    World stopped(world.model());
+    stopped.set_watchdog(other);
+    for (int i = 0; i < 60 && !stopped.verdict().exploded(); ++i) stopped.step({Integrator::symplectic_euler, h, 1});
+    EXPECT_TRUE(stopped.verdict().exploded());
+    EXPECT_EQ(stopped.verdict().index, 1u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Every, Rewind,
                          testing::ValuesIn(std::vector<Integrator>{
                              Integrator::forward_euler, Integrator::symplectic_euler, Integrator::leapfrog,
