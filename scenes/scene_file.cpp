@@ -25,6 +25,8 @@
 //                bend (stiffness factors), pins = "none"|"corners"|"edge"|"all", color, link keys
 //   [[soft_bodies]] name, corner, size (m), nx, ny, nz, mass, radius, velocity (m/s), color,
 //                link keys, yield_strain, creep (1/s), max_strain (plastic when yield_strain > 0)
+//   [[emitters]] name, count, position (m), direction, cone (deg), speed (m/s), speed_jitter,
+//                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
 //   [constraints] iterations (Gauss-Seidel sweeps per substep)
 //   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool)
 //   [[colliders]] shape = "plane" (normal, offset m) | "sphere" (center, radius) |
@@ -512,10 +514,49 @@ struct Builder {
             add_body(s, BodyLook::Kind::soft_body, range, s.string("name", "soft_body" + std::to_string(k), 64), color,
                      false, d.radius);
         }
+        const auto emitters = top.tables("emitters", 100);
+        for (std::size_t k = 0; k < emitters.size(); ++k) {
+            const Section s(r, *emitters[k], "emitters[" + std::to_string(k) + "]");
+            s.only({"name", "count", "position", "direction", "cone", "speed", "speed_jitter", "rate", "seed", "mass",
+                    "radius", "color"});
+            sim::Emitter e;
+            const long long count = s.integer("count", 1000, 1, static_cast<long long>(kMaxParticles));
+            if (scene.model.particles.size() + static_cast<std::size_t>(count) > kMaxParticles) {
+                s.fail("count", "makes more than " + std::to_string(kMaxParticles) + " particles in the scene");
+            }
+            e.first = static_cast<std::uint32_t>(scene.model.particles.size());
+            e.count = static_cast<std::uint32_t>(count);
+            e.position = s.vec3("position", e.position, "m");
+            const sim::Vec3 d = s.vec3("direction", e.direction, "(a direction)");
+            if (d.norm() < 1e-9) s.fail("direction", "must be a non-zero direction");
+            e.direction = d.normalized();
+            e.cone = s.number("cone", e.cone, 0.0, 180.0, "degrees");
+            e.speed = s.positive("speed", e.speed, 1e4, "m/s");
+            e.speed_jitter = s.number("speed_jitter", e.speed_jitter, 0.0, 1.0, "(a fraction)");
+            e.rate = s.positive("rate", e.rate, 1e7, "particles/s");
+            e.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
+            sim::ParticleDef p;
+            p.mass = s.positive("mass", 0.01, kHuge, "kg");
+            p.radius = s.positive("radius", 0.02, 100.0, "m");
+            p.pinned = true;  // parked until born
+            p.position = sim::parked_position(e);
+            ParticleLook look;
+            look.radius = p.radius;
+            look.color = s.color("color", render::Color{0.25f, 0.55f, 0.95f, 1});
+            const std::string name = s.string("name", "emitter" + std::to_string(k), 64);
+            for (std::uint32_t i = 0; i < e.count; ++i) {
+                const std::string member = name + "[" + std::to_string(i) + "]";
+                add_name(s, member, scene.model.particles.size());
+                scene.particle_names.push_back(member);
+                scene.model.particles.push_back(p);
+                scene.looks.push_back(look);
+            }
+            scene.model.emitters.push_back(e);
+        }
         if (scene.model.particles.empty()) {
-            r.fail(
-                &top.table(),
-                "a scene needs at least one [[particles]], [[groups]], [[ropes]], [[cloths]] or [[soft_bodies]] entry");
+            r.fail(&top.table(),
+                   "a scene needs at least one [[particles]], [[groups]], [[ropes]], [[cloths]], "
+                   "[[soft_bodies]] or [[emitters]] entry");
         }
     }
 
@@ -914,7 +955,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     const Section top(reader, root, "");
     if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
     top.only({"description", "frames", "checkpoints", "step", "particles", "groups", "ropes", "cloths", "soft_bodies",
-              "forces", "constraints", "collisions", "colliders", "watchdog", "camera", "view", "ghosts"});
+              "emitters", "forces", "constraints", "collisions", "colliders", "watchdog", "camera", "view", "ghosts"});
     if (top.node("description") == nullptr)
         reader.fail(&root, "description is required: one sentence saying what the scene shows");
     scene.description = top.string("description", "", 300);
@@ -971,6 +1012,7 @@ std::vector<std::string> SceneDef::systems() const {
     if (!model.constraints.empty()) out.push_back("constraints");
     if (!model.collisions.empty()) out.push_back("collisions");
     if (plastic) out.push_back("plasticity");
+    if (!model.emitters.empty()) out.push_back("emitters");
     if (watchdog.enabled) out.push_back("watchdog");
     return out;
 }

@@ -160,9 +160,13 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
             }
         }
     }
+    std::vector<bool> unborn(s.size(), false);  // emitter particles still parked
+    for (const sim::Emitter& e : scene_.model.emitters) {
+        for (std::uint32_t k = 0; k < e.count; ++k) unborn[e.first + k] = !sim::born(e, k, time());
+    }
     for (std::size_t i = 0; i < s.size(); ++i) {
         const ParticleLook& look = scene_.looks[i];
-        if (!look.visible) continue;
+        if (!look.visible || unborn[i]) continue;
         list.spheres.push_back(
             render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
         if (s.inv_mass[i] != 0.0 && scene_.view.velocity_arrows > 0) {

@@ -164,7 +164,13 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
     // Counting sort of the particles by hash slot.
     s.cell_start.assign(table + 1, 0);
     s.cell_of.resize(n);
+    // Only free particles enter the grid: pinned ones (and an emitter's parked
+    // ones, all in one place) are not obstacles to each other or to anyone.
     for (std::size_t i = 0; i < n; ++i) {
+        if (inv_mass[i] == 0.0 || radius[i] <= 0.0) {
+            s.cell_of[i] = -1;
+            continue;
+        }
         const std::uint32_t slot = cell_slot(coord(x.c[0][i]), coord(x.c[1][i]), coord(x.c[2][i]), table);
         s.cell_of[i] = static_cast<std::int32_t>(slot);
         ++s.cell_start[slot + 1];
@@ -173,12 +179,14 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
     s.cell_entries.resize(n);
     {
         std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) s.cell_entries[fill[s.cell_of[i]]++] = static_cast<std::uint32_t>(i);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (s.cell_of[i] >= 0) s.cell_entries[fill[s.cell_of[i]]++] = static_cast<std::uint32_t>(i);
+        }
     }
 
     std::size_t contacts = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        if (radius[i] <= 0.0) continue;
+        if (s.cell_of[i] < 0) continue;
         const std::int64_t cx = coord(x.c[0][i]), cy = coord(x.c[1][i]), cz = coord(x.c[2][i]);
         for (std::int64_t dx = -1; dx <= 1; ++dx) {
             for (std::int64_t dy = -1; dy <= 1; ++dy) {
@@ -188,7 +196,6 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
                         const std::uint32_t j = s.cell_entries[e];
                         if (j <= i) continue;
                         const double wi = inv_mass[i], wj = inv_mass[j];
-                        if (wi + wj == 0.0) continue;
                         const Vec3 d = x.get(i) - x.get(j);
                         const double reach = radius[i] + radius[j];
                         const double dist2 = d.squaredNorm();

@@ -13,7 +13,8 @@
 //     rest_speed, so resting contact does not jitter), and Coulomb friction
 //     takes up to μ times the normal velocity change from the tangential part
 //     (and stops it, not reverses it).
-// Particle pairs: positions pushed apart in proportion to inverse mass, then
+// Particle pairs (free particles only: a pinned particle is no obstacle; use
+// a collider for that): positions pushed apart in proportion to inverse mass, then
 // the same restitution and friction on the relative velocity. The grid is
 // rebuilt every substep by counting sort (cells hashed into a table of 2n
 // slots), and pairs are visited in index order, so the result is the same

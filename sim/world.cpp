@@ -15,6 +15,7 @@ void validate(const ParticleModel& model) {
     validate_forces(model.forces, model.particles.size());
     validate(model.constraints, model.particles.size());
     validate(model.collisions);
+    for (std::size_t k = 0; k < model.emitters.size(); ++k) validate(model.emitters[k], model.particles.size(), k);
 }
 
 void validate(const StepSettings& settings) {
@@ -112,6 +113,9 @@ void World::step(const StepSettings& settings) {
     };
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         auto mark = Clock::now();
+        for (const Emitter& emitter : model_.emitters) {
+            if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
+        }
         // Continuous collision detection sweeps from here; a contained explosion freezes here.
         if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
         step_once(settings.integrator, h);  // forces and integration

@@ -5,6 +5,7 @@
 
 #include "sim/collisions.h"
 #include "sim/constraints.h"
+#include "sim/emitter.h"
 #include "sim/forces.h"
 #include "sim/integrators.h"
 #include "sim/particles.h"
@@ -22,6 +23,7 @@ struct ParticleModel {
     std::vector<ForceDef> forces;
     Constraints constraints;  // XPBD, solved after every integrator substep
     Collisions collisions;    // resolved after the constraints
+    std::vector<Emitter> emitters;  // cosmetic particle sources (their particles start pinned, parked)
 };
 
 // Throws InputError for the first invalid particle or force.
@@ -49,7 +51,7 @@ public:
 
     // Advances one frame step: settings.substeps substeps of
     // settings.dt / settings.substeps, each the stages
-    //   forces + integrate -> constraints -> collisions -> plasticity -> watchdog
+    //   emit -> forces + integrate -> constraints -> collisions -> plasticity -> watchdog
     // (a stage the model does not use costs nothing). Throws InputError for
     // bad settings. Once the watchdog has a verdict, does nothing.
     void step(const StepSettings& settings);

@@ -1,0 +1,89 @@
+#include "sim/emitter.h"
+
+#include "sim/error.h"
+#include "sim/random.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace sim {
+
+namespace {
+
+// The launch velocity of particle k's n-th birth.
+Vec3 launch_velocity(const Emitter& e, std::uint32_t k, std::int64_t n) {
+    Random r(e.seed ^ (0x9E3779B97F4A7C15ull * (static_cast<std::uint64_t>(n) * e.count + k + 1)));
+    // Uniform over the spherical cap of half-angle `cone` around +Z, then
+    // rotated onto the direction: cos θ uniform in [cos cone, 1].
+    const double cos_max = std::cos(e.cone * std::numbers::pi / 180.0);
+    const double cos_t = 1.0 - r.uniform() * (1.0 - cos_max);
+    const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+    const double phi = 2.0 * std::numbers::pi * r.uniform();
+    const Vec3 local(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t);
+    const Eigen::Quaterniond to_direction = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), e.direction);
+    const double speed = e.speed * (1.0 + e.speed_jitter * (2.0 * r.uniform() - 1.0));
+    return speed * (to_direction * local);
+}
+
+}  // namespace
+
+void validate(const Emitter& e, std::size_t particle_count, std::size_t index) {
+    const std::string name = "emitters[" + std::to_string(index) + "]";
+    if (e.count == 0 || static_cast<std::size_t>(e.first) + e.count > particle_count) {
+        throw InputError(name + " owns particles " + std::to_string(e.first) + " .. " +
+                         std::to_string(static_cast<std::size_t>(e.first) + e.count) + ", but there are " +
+                         std::to_string(particle_count));
+    }
+    if (!e.position.allFinite()) throw InputError(name + ".position must be finite, in m");
+    if (!e.direction.allFinite() || std::abs(e.direction.norm() - 1.0) > 1e-9) {
+        throw InputError(name + ".direction must be a unit vector");
+    }
+    auto positive = [&](double v, const char* field, const char* unit) {
+        if (!(v > 0.0) || !std::isfinite(v)) {
+            throw InputError(name + "." + field + " must be > 0 and finite, in " + unit + " (got " + format_value(v) +
+                             ")");
+        }
+    };
+    positive(e.speed, "speed", "m/s");
+    positive(e.rate, "rate", "particles/s");
+    if (!(e.cone >= 0.0 && e.cone <= 180.0)) {
+        throw InputError(name + ".cone must be within 0 .. 180, in degrees (got " + format_value(e.cone) + ")");
+    }
+    if (!(e.speed_jitter >= 0.0 && e.speed_jitter <= 1.0)) {
+        throw InputError(name + ".speed_jitter must be within 0 .. 1 (got " + format_value(e.speed_jitter) + ")");
+    }
+}
+
+Vec3 parked_position(const Emitter& e) { return e.position - Vec3(0.0, 100.0, 0.0); }
+
+bool born(const Emitter& e, std::uint32_t k, double t) { return t * e.rate >= static_cast<double>(k); }
+
+std::size_t emit(const Emitter& e, double t0, double t1, ParticleState& state) {
+    // Births are at t = (k + n count) / rate: find each index b = k + n count
+    // with t0 < b / rate <= t1.
+    const auto b_first = static_cast<std::int64_t>(std::floor(t0 * e.rate)) + 1;
+    const auto b_last = static_cast<std::int64_t>(std::floor(t1 * e.rate));
+    std::size_t births = 0;
+    for (std::int64_t b = std::max<std::int64_t>(b_first, 0); b <= b_last; ++b) {
+        const auto k = static_cast<std::uint32_t>(b % e.count);
+        const std::int64_t n = b / e.count;
+        const std::size_t i = e.first + k;
+        state.x.set(i, e.position);
+        state.v.set(i, launch_velocity(e, k, n));
+        state.inv_mass[i] = 1.0 / state.mass[i];
+        ++births;
+    }
+    // At t0 = 0 the births at exactly t = 0 (b = 0) belong to this call too.
+    if (t0 == 0.0) {
+        state.x.set(e.first, e.position);
+        state.v.set(e.first, launch_velocity(e, 0, 0));
+        state.inv_mass[e.first] = 1.0 / state.mass[e.first];
+        ++births;
+    }
+    return births;
+}
+
+}  // namespace sim
