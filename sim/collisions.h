@@ -14,10 +14,13 @@
 //     takes up to μ times the normal velocity change from the tangential part
 //     (and stops it, not reverses it).
 // Particle pairs (free particles only: a pinned particle is no obstacle; use
-// a collider for that): positions pushed apart in proportion to inverse mass, then
+// a collider for that): found by testing each particle against its own cell
+// and the 13 "forward" neighbour cells (each pair once), on a copy of the
+// positions sorted by cell (the pass reads memory in order); positions
+// pushed apart in proportion to inverse mass, then
 // the same restitution and friction on the relative velocity. The grid is
-// rebuilt every substep by counting sort (cells hashed into a table of 2n
-// slots), and pairs are visited in index order, so the result is the same
+// rebuilt every substep by counting sort (cells hashed into a table of at
+// least 2n slots), and pairs are visited in index order, so the result is the same
 // bits on every run.
 #pragma once
 
@@ -86,6 +89,7 @@ struct CollisionScratch {
     std::vector<std::uint32_t> cell_start;    // (table + 1) counting-sort offsets
     std::vector<std::uint32_t> cell_entries;  // particle indices sorted by cell
     std::vector<std::int32_t> cell_of;        // hash slot of each particle
+    std::vector<double> sorted;               // (4 x entries) x, y, z, radius in entry order, m
     std::size_t contacts = 0;                 // contacts resolved in the last pass
 };
 
