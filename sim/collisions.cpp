@@ -143,43 +143,56 @@ bool collide_static(const Collider& collider, const Collisions& c, const Vec3& x
     return true;
 }
 
-// Hash of an integer cell into [0, mask + 1), the table size a power of two
-// (a mask, not a modulo: 27 lookups per particle made the division the
-// bottleneck of the whole pass).
-std::uint32_t cell_slot(std::int64_t ix, std::int64_t iy, std::int64_t iz, std::uint32_t mask) {
-    // Three large primes (Teschner et al. 2003, "Optimized spatial hashing").
-    const std::uint64_t h = static_cast<std::uint64_t>(ix * 73856093) ^ static_cast<std::uint64_t>(iy * 19349663) ^
-                            static_cast<std::uint64_t>(iz * 83492791);
-    return static_cast<std::uint32_t>(h & mask);
-}
-
 std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const double* radius, const double* inv_mass,
                           CollisionScratch& s) {
     const std::size_t n = x.n;
-    double r_max = 0.0;
-    for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, radius[i]);
-    if (n < 2 || r_max <= 0.0) return 0;
-    const double cell = 2.0 * r_max;  // m: a particle's neighbours are in the 27 cells around its own
-    std::uint32_t table = 1;          // slots: the power of two at or above 2n
-    while (table < 2 * n) table <<= 1;
-    const std::uint32_t mask = table - 1;
-    auto coord = [&](double p) { return static_cast<std::int64_t>(std::floor(p / cell)); };
-
-    // Counting sort of the particles by hash slot.
-    s.cell_start.assign(table + 1, 0);
-    s.cell_of.resize(n);
     // Only free particles enter the grid: pinned ones (and an emitter's parked
     // ones, all in one place) are not obstacles to each other or to anyone.
+    double r_max = 0.0;
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+    std::size_t free = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (inv_mass[i] == 0.0 || radius[i] <= 0.0) continue;
+        r_max = std::max(r_max, radius[i]);
+        const Vec3 p = x.get(i);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+        ++free;
+    }
+    if (free < 2) return 0;
+    // A dense grid over the free particles' box, cells of 2 r_max (a
+    // particle's neighbours are in the cells around its own), coarsened while
+    // it would have more than 16 cells per particle (a far outlier). Cells are
+    // numbered x fastest, so the three cells of a row dx = -1, 0, 1 are one
+    // range of the sorted entries.
+    double cell = 2.0 * r_max;  // m
+    std::int64_t nx = 0, ny = 0, nz = 0;
+    for (;;) {
+        nx = static_cast<std::int64_t>((hi.x() - lo.x()) / cell) + 1;
+        ny = static_cast<std::int64_t>((hi.y() - lo.y()) / cell) + 1;
+        nz = static_cast<std::int64_t>((hi.z() - lo.z()) / cell) + 1;
+        if (static_cast<double>(nx) * ny * nz <= 16.0 * static_cast<double>(free) + 64.0) break;
+        cell *= 2.0;
+    }
+    const auto cells = static_cast<std::size_t>(nx * ny * nz);
+    auto axis = [&](double p, double origin, std::int64_t count) {
+        return std::min(static_cast<std::int64_t>((p - origin) / cell), count - 1);
+    };
+
+    // Counting sort of the free particles by cell.
+    s.cell_start.assign(cells + 1, 0);
+    s.cell_of.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         if (inv_mass[i] == 0.0 || radius[i] <= 0.0) {
             s.cell_of[i] = -1;
             continue;
         }
-        const std::uint32_t slot = cell_slot(coord(x.c[0][i]), coord(x.c[1][i]), coord(x.c[2][i]), mask);
-        s.cell_of[i] = static_cast<std::int32_t>(slot);
-        ++s.cell_start[slot + 1];
+        const std::int64_t cx = axis(x.c[0][i], lo.x(), nx), cy = axis(x.c[1][i], lo.y(), ny),
+                           cz = axis(x.c[2][i], lo.z(), nz);
+        s.cell_of[i] = static_cast<std::int32_t>((cz * ny + cy) * nx + cx);
+        ++s.cell_start[static_cast<std::size_t>(s.cell_of[i]) + 1];
     }
-    for (std::uint32_t k = 0; k < table; ++k) s.cell_start[k + 1] += s.cell_start[k];
+    for (std::size_t k = 0; k < cells; ++k) s.cell_start[k + 1] += s.cell_start[k];
     s.cell_entries.resize(n);
     {
         std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
@@ -190,7 +203,7 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
 
     // Positions and radii in entry order: the candidate tests below read
     // them in sequence. Overlapping pairs are resolved on the live arrays.
-    const std::uint32_t entries = s.cell_start[table];
+    const auto entries = static_cast<std::uint32_t>(s.cell_start[cells]);
     s.sorted.resize(4 * static_cast<std::size_t>(entries));
     for (std::uint32_t e = 0; e < entries; ++e) {
         const std::uint32_t i = s.cell_entries[e];
@@ -199,11 +212,6 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
         s.sorted[4 * e + 2] = x.c[2][i];
         s.sorted[4 * e + 3] = radius[i];
     }
-    // The own cell and the 13 neighbours "after" it (dz > 0, or dz = 0 and
-    // dy > 0, or dz = dy = 0 and dx > 0): every neighbouring pair of cells once.
-    static constexpr int kForward[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0}, {-1, -1, 1},
-                                            {0, -1, 1}, {1, -1, 1}, {-1, 0, 1}, {0, 0, 1}, {1, 0, 1},
-                                            {-1, 1, 1}, {0, 1, 1},  {1, 1, 1}};
     std::size_t contacts = 0;
     auto resolve = [&](std::uint32_t i, std::uint32_t j) {
         const double wi = inv_mass[i], wj = inv_mass[j];
@@ -235,23 +243,32 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
         }
         ++contacts;
     };
+    // Each particle against: the rest of its own cell and the next one in
+    // its row (one range), the row above (dy = 1), and the three rows in
+    // front (dz = 1, dy = -1 .. 1), each row dx = -1 .. 1: the 13 forward
+    // neighbour cells, so every pair is tested once.
     for (std::uint32_t ei = 0; ei < entries; ++ei) {
         const double* pi = &s.sorted[4 * ei];
-        const std::int64_t cx = coord(pi[0]), cy = coord(pi[1]), cz = coord(pi[2]);
-        auto scan = [&](std::uint32_t slot, std::uint32_t from) {
-            for (std::uint32_t ej = std::max(from, s.cell_start[slot]); ej < s.cell_start[slot + 1]; ++ej) {
+        const std::uint32_t i = s.cell_entries[ei];
+        const std::int64_t id = s.cell_of[i];
+        const std::int64_t cx = id % nx, cy = (id / nx) % ny, cz = id / (nx * ny);
+        auto scan = [&](std::size_t begin, std::size_t end) {
+            for (std::size_t ej = begin; ej < end; ++ej) {
                 const double* pj = &s.sorted[4 * ej];
                 const double dx = pi[0] - pj[0], dy = pi[1] - pj[1], dz = pi[2] - pj[2];
                 const double reach = pi[3] + pj[3];
-                if (dx * dx + dy * dy + dz * dz < reach * reach) resolve(s.cell_entries[ei], s.cell_entries[ej]);
+                if (dx * dx + dy * dy + dz * dz < reach * reach) resolve(i, s.cell_entries[ej]);
             }
         };
-        const std::uint32_t own = cell_slot(cx, cy, cz, mask);
-        scan(own, ei + 1);  // the own cell: entries after this one
-        for (const auto& o : kForward) {
-            const std::uint32_t slot = cell_slot(cx + o[0], cy + o[1], cz + o[2], mask);
-            scan(slot, slot == own ? ei + 1 : 0);  // a slot shared with the own cell: each pair once still
-        }
+        auto row = [&](std::int64_t y, std::int64_t z) {
+            if (y < 0 || y >= ny || z >= nz) return;
+            const std::int64_t base = (z * ny + y) * nx;
+            scan(s.cell_start[static_cast<std::size_t>(base + std::max<std::int64_t>(cx - 1, 0))],
+                 s.cell_start[static_cast<std::size_t>(base + std::min(cx + 1, nx - 1) + 1)]);
+        };
+        scan(ei + 1, s.cell_start[static_cast<std::size_t>(id + (cx + 1 < nx ? 2 : 1))]);
+        row(cy + 1, cz);
+        for (std::int64_t y = cy - 1; y <= cy + 1; ++y) row(y, cz + 1);
     }
     return contacts;
 }

@@ -14,14 +14,14 @@
 //     takes up to μ times the normal velocity change from the tangential part
 //     (and stops it, not reverses it).
 // Particle pairs (free particles only: a pinned particle is no obstacle; use
-// a collider for that): found by testing each particle against its own cell
-// and the 13 "forward" neighbour cells (each pair once), on a copy of the
+// a collider for that): found on a grid of cells twice the largest radius
+// over the free particles' box, each particle tested against its own cell
+// and the 13 "forward" neighbour cells (each pair once) on a copy of the
 // positions sorted by cell (the pass reads memory in order); positions
-// pushed apart in proportion to inverse mass, then
-// the same restitution and friction on the relative velocity. The grid is
-// rebuilt every substep by counting sort (cells hashed into a table of at
-// least 2n slots), and pairs are visited in index order, so the result is the same
-// bits on every run.
+// pushed apart in proportion to inverse mass, then the same restitution and
+// friction on the relative velocity. The grid is rebuilt every substep by
+// counting sort and pairs are visited in cell order, so the result is the
+// same bits on every run.
 #pragma once
 
 #include "sim/vec3_array.h"
@@ -86,9 +86,9 @@ SurfacePoint surface_point(const Collider& collider, const Vec3& p);
 // Scratch and counters of the collision pass (state that changes every step;
 // not part of a scene's description).
 struct CollisionScratch {
-    std::vector<std::uint32_t> cell_start;    // (table + 1) counting-sort offsets
+    std::vector<std::uint32_t> cell_start;    // (cells + 1) counting-sort offsets
     std::vector<std::uint32_t> cell_entries;  // particle indices sorted by cell
-    std::vector<std::int32_t> cell_of;        // hash slot of each particle
+    std::vector<std::int32_t> cell_of;        // cell of each particle (-1: not in the grid)
     std::vector<double> sorted;               // (4 x entries) x, y, z, radius in entry order, m
     std::size_t contacts = 0;                 // contacts resolved in the last pass
 };
