@@ -20,6 +20,10 @@ const char* force_name(const ForceDef& force) {
                           [](const Springs&) { return "springs"; },
                           [](const LinearDrag&) { return "linear_drag"; },
                           [](const QuadraticDrag&) { return "quadratic_drag"; },
+                          [](const Wind&) { return "wind"; },
+                          [](const Buoyancy&) { return "buoyancy"; },
+                          [](const ShockWave&) { return "shock_wave"; },
+                          [](const ControlForces&) { return "control"; },
                       },
                       force);
 }

@@ -3,12 +3,16 @@
 // entry in ForceDef.
 #pragma once
 
+#include "sim/buoyancy.h"
+#include "sim/control_force.h"
 #include "sim/dynamics.h"
 #include "sim/gravity.h"
 #include "sim/linear_drag.h"
 #include "sim/newton_gravity.h"
 #include "sim/quadratic_drag.h"
+#include "sim/shock_wave.h"
 #include "sim/spring.h"
+#include "sim/wind.h"
 
 #include <cstdint>
 #include <variant>
@@ -16,7 +20,8 @@
 
 namespace sim {
 
-using ForceDef = std::variant<UniformGravity, NewtonGravity, Springs, LinearDrag, QuadraticDrag>;
+using ForceDef = std::variant<UniformGravity, NewtonGravity, Springs, LinearDrag, QuadraticDrag, Wind, Buoyancy,
+                              ShockWave, ControlForces>;
 
 // The name scene files and messages use for a generator ("gravity", "springs", ...).
 const char* force_name(const ForceDef& force);

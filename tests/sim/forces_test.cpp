@@ -122,6 +122,8 @@ TEST(Potentials, ForceIsMinusGradient) {
     expect_force_is_minus_gradient(Springs{{{0, 1, 0.5, 100, 0}, {1, 2, 1.0, 40, 0}, {0, 3, 0.0, 5, 0}}}, Fixture(4));
     expect_force_is_minus_gradient(NewtonGravity{2.0, 0.1}, Fixture(4));
     expect_force_is_minus_gradient(NewtonGravity{1.5, 0.0}, Fixture(3));
+    // Particle 2 partly under water, particle 3 fully, 0 and 1 above.
+    expect_force_is_minus_gradient(Buoyancy{0.2, 1000.0, 9.81, 0.3, 0.0, {}}, Fixture(4));
 }
 
 // The analytic Jacobians match central differences of the force.
@@ -167,6 +169,8 @@ TEST(Jacobians, MatchCentralDifferences) {
     expect_jacobians_match(QuadraticDrag{0.3}, fx, 1e-6);
     expect_jacobians_match(NewtonGravity{2.0, 0.05}, fx, 1e-4);
     expect_jacobians_match(UniformGravity{}, fx, 1e-9);
+    Fixture four(4);
+    expect_jacobians_match(Buoyancy{0.2, 1000.0, 9.81, 0.3, 2.5, {}}, four, 1e-3);
 }
 
 TEST(Drag, OpposesVelocity) {

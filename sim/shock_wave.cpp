@@ -1,0 +1,47 @@
+#include "sim/shock_wave.h"
+
+#include "sim/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace sim {
+
+void validate(const ShockWave& s, std::size_t) {
+    if (!s.center.allFinite()) throw InputError("shock_wave.center must be finite, in m");
+    auto positive = [](double v, const char* field, const char* unit) {
+        if (!(v > 0.0) || !std::isfinite(v)) {
+            throw InputError(std::string("shock_wave.") + field + " must be > 0 and finite, in " + unit + " (got " +
+                             format_value(v) + ")");
+        }
+    };
+    positive(s.speed, "speed", "m/s");
+    positive(s.thickness, "thickness", "m");
+    positive(s.reference_distance, "reference_distance", "m");
+    if (!std::isfinite(s.start_time)) throw InputError("shock_wave.start_time must be finite, in s");
+    if (!(s.strength >= 0.0) || !std::isfinite(s.strength)) {
+        throw InputError("shock_wave.strength must be >= 0 and finite, in N (got " + format_value(s.strength) + ")");
+    }
+    if (!(s.max_radius >= 0.0) || !std::isfinite(s.max_radius)) {
+        throw InputError("shock_wave.max_radius must be >= 0 and finite, in m (got " + format_value(s.max_radius) +
+                         ")");
+    }
+}
+
+void accumulate(const ShockWave& s, const ForceInput& in, Vec3Span f) {
+    if (in.t < s.start_time) return;
+    const double front = s.speed * (in.t - s.start_time);
+    const double half = 0.5 * s.thickness;
+    if (s.max_radius > 0.0 && front - half > s.max_radius) return;
+    for (std::size_t i = 0; i < in.x.n; ++i) {
+        const Vec3 d = in.x.get(i) - s.center;
+        const double r = d.norm();
+        if (r == 0.0 || std::abs(r - front) >= half) continue;  // at the centre there is no outward
+        if (s.max_radius > 0.0 && r > s.max_radius) continue;
+        const double ratio = s.reference_distance / std::max(r, s.reference_distance);
+        f.add(i, (s.strength * ratio * ratio / r) * d);
+    }
+}
+
+}  // namespace sim

@@ -1,0 +1,84 @@
+#include "sim/wind.h"
+
+#include "sim/error.h"
+#include "sim/random.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+namespace sim {
+
+namespace {
+
+Vec3 gust_key(const Wind& w, std::int64_t k) {
+    Random r(w.seed ^ (0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(k + 1)));
+    const double gx = r.normal(), gy = r.normal(), gz = r.normal();
+    return w.gust_strength * Vec3(gx, gy, gz);
+}
+
+}  // namespace
+
+Vec3 wind_at(const Wind& w, double t) {
+    if (w.gust_strength == 0.0) return w.velocity;
+    const double u = t / w.gust_period;
+    const auto k = static_cast<std::int64_t>(std::floor(u));
+    const double s = u - static_cast<double>(k);
+    const double ease = s * s * (3.0 - 2.0 * s);  // smoothstep: zero slope at both keys
+    const Vec3 a = gust_key(w, k), b = gust_key(w, k + 1);
+    return w.velocity + a + ease * (b - a);
+}
+
+void validate(const Wind& w, std::size_t particle_count) {
+    if (!w.velocity.allFinite()) throw InputError("wind.velocity must be finite, in m/s");
+    auto nonnegative = [](double v, const char* field, const char* unit) {
+        if (!(v >= 0.0) || !std::isfinite(v)) {
+            throw InputError(std::string("wind.") + field + " must be >= 0 and finite" + unit + " (got " +
+                             format_value(v) + ")");
+        }
+    };
+    nonnegative(w.air_density, "air_density", ", in kg/m³");
+    nonnegative(w.drag_coefficient, "drag_coefficient", "");
+    nonnegative(w.radius, "radius", ", in m");
+    nonnegative(w.gust_strength, "gust_strength", ", in m/s");
+    if (!(w.gust_period > 0.0) || !std::isfinite(w.gust_period)) {
+        throw InputError("wind.gust_period must be > 0 and finite, in s (got " + format_value(w.gust_period) + ")");
+    }
+    auto check = [&](std::uint32_t p, const std::string& what) {
+        if (p >= particle_count) {
+            throw InputError("wind." + what + " names particle " + std::to_string(p) + ", but there are only " +
+                             std::to_string(particle_count));
+        }
+    };
+    for (std::size_t k = 0; k < w.triangles.size(); ++k) {
+        for (std::uint32_t p : w.triangles[k]) check(p, "triangles[" + std::to_string(k) + "]");
+    }
+    for (std::size_t k = 0; k < w.particles.size(); ++k) check(w.particles[k], "particles[" + std::to_string(k) + "]");
+}
+
+void accumulate(const Wind& w, const ForceInput& in, Vec3Span f) {
+    const Vec3 wind = wind_at(w, in.t);
+    const double half_rho_cd = 0.5 * w.air_density * w.drag_coefficient;
+    for (const auto& [a, b, c] : w.triangles) {
+        const Vec3 xa = in.x.get(a), xb = in.x.get(b), xc = in.x.get(c);
+        const Vec3 cross = (xb - xa).cross(xc - xa);  // |cross| = 2 A
+        const double twice_area = cross.norm();
+        if (twice_area == 0.0) continue;  // a degenerate triangle has no face to push
+        const Vec3 n = cross / twice_area;
+        const Vec3 u = wind - (in.v.get(a) + in.v.get(b) + in.v.get(c)) / 3.0;
+        const double un = u.dot(n);
+        const Vec3 third = (half_rho_cd * 0.5 * twice_area * un * std::abs(un) / 3.0) * n;
+        f.add(a, third);
+        f.add(b, third);
+        f.add(c, third);
+    }
+    const double section = std::numbers::pi * w.radius * w.radius;
+    for (std::uint32_t p : w.particles) {
+        const Vec3 u = wind - in.v.get(p);
+        f.add(p, (half_rho_cd * section * u.norm()) * u);
+    }
+}
+
+}  // namespace sim
