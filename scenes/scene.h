@@ -64,6 +64,8 @@ struct View {
     double velocity_arrows = 0.0;  // s: an arrow of v * this per moving particle; 0: none
     bool energy_plot = false;      // total energy over time, bottom right
     bool hud = true;               // scene, integrator, dt, t and E, top left
+    bool water = false;            // a translucent water surface (scenes with buoyancy)
+    double water_height = 0.0;     // m
 };
 
 struct SceneDef {

@@ -16,6 +16,13 @@
 //   [forces.quadratic_drag] c (N·s²/m²)     [forces.newton_gravity] G, softening
 //   [[forces.springs]] a, b (particle names or indices), rest_length (m; default:
 //                the initial distance), stiffness (N/m), damping (N·s/m)
+//   [forces.wind] velocity (m/s), air_density (kg/m³), drag_coefficient, gust_strength (m/s),
+//                gust_period (s), seed, bodies = [cloth or soft-body names], particles, radius (m)
+//   [[forces.buoyancy]] surface_height (m), fluid_density (kg/m³), radius (m), drag (N·s/m),
+//                particles (default all); g from [forces.gravity]
+//   [[forces.shock_waves]] center (m), start_time (s), speed (m/s), thickness (m), strength (N),
+//                reference_distance (m), max_radius (m)
+//   [[forces.control]] start, end (s), particles = [names or indices], force (N, on each)
 //   Bodies (their particles are named "<name>[k]"; links: link = "springs"|"constraints",
 //                stiffness (N/m), damping (N·s/m), compliance (m/N), tethers, strain_colors;
 //                ropes also contain_explosion: its explosion freezes it and the run goes on):
@@ -640,7 +647,8 @@ struct Builder {
         const toml::table* t = top.subtable("forces");
         if (t == nullptr) return;
         const Section f(r, *t, "forces");
-        f.only({"gravity", "drag", "quadratic_drag", "newton_gravity", "springs"});
+        f.only({"gravity", "drag", "quadratic_drag", "newton_gravity", "springs", "wind", "buoyancy", "shock_waves",
+                "control"});
         if (const toml::table* g = f.subtable("gravity")) {
             const Section s(r, *g, "forces.gravity");
             s.only({"g"});
@@ -682,6 +690,117 @@ struct Builder {
             }
             scene.drawn_springs.push_back(scene.model.forces.size());
             scene.model.forces.push_back(std::move(list));
+        }
+        more_forces(f);
+    }
+
+    // An array of particle names or indices; empty when absent.
+    std::vector<std::uint32_t> particle_list(const Section& s, std::string_view key) {
+        std::vector<std::uint32_t> out;
+        const toml::node* n = s.node(key);
+        if (n == nullptr) return out;
+        const toml::array* a = n->as_array();
+        if (a == nullptr) s.fail(key, "must be an array of particle names or indices (got " + describe(*n) + ")");
+        for (std::size_t k = 0; k < a->size(); ++k) {
+            const toml::node& e = *a->get(k);
+            const std::string where = s.key_path(key) + "[" + std::to_string(k) + "]";
+            if (auto name = e.value<std::string>(); name && e.is_string()) {
+                const auto it = by_name.find(*name);
+                if (it == by_name.end()) r.fail(&e, where + " names no particle (got " + quote(*name) + ")");
+                out.push_back(static_cast<std::uint32_t>(it->second));
+            } else if (e.is_integer() && *e.value<long long>() >= 0 &&
+                       static_cast<std::size_t>(*e.value<long long>()) < scene.model.particles.size()) {
+                out.push_back(static_cast<std::uint32_t>(*e.value<long long>()));
+            } else {
+                r.fail(&e, where + " must be a particle name or an index within 0 .. " +
+                               std::to_string(scene.model.particles.size() - 1) + " (got " + describe(e) + ")");
+            }
+        }
+        return out;
+    }
+
+    // Wind, buoyancy, shock waves and control forces (after gravity: buoyancy takes its g).
+    void more_forces(const Section& f) {
+        const sim::UniformGravity* gravity_force = find_force<sim::UniformGravity>();
+        const double g = gravity_force != nullptr ? gravity_force->g.norm() : 0.0;  // m/s² (a copy: forces grow below)
+        if (const toml::table* t = f.subtable("wind")) {
+            const Section s(r, *t, "forces.wind");
+            s.only({"velocity", "air_density", "drag_coefficient", "gust_strength", "gust_period", "seed", "bodies",
+                    "particles", "radius"});
+            sim::Wind w;
+            w.velocity = s.vec3("velocity", w.velocity, "m/s");
+            w.air_density = s.number("air_density", w.air_density, 0.0, 1e5, "kg/m³");
+            w.drag_coefficient = s.number("drag_coefficient", w.drag_coefficient, 0.0, 100.0, "(C_d)");
+            w.gust_strength = s.number("gust_strength", w.gust_strength, 0.0, 1e4, "m/s");
+            w.gust_period = s.positive("gust_period", w.gust_period, 1e6, "s");
+            w.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
+            w.radius = s.number("radius", w.radius, 0.0, 100.0, "m");
+            w.particles = particle_list(s, "particles");
+            if (const toml::node* n = s.node("bodies")) {
+                const toml::array* a = n->as_array();
+                if (a == nullptr) s.fail("bodies", "must be an array of cloth or soft-body names");
+                for (std::size_t k = 0; k < a->size(); ++k) {
+                    const auto name = a->get(k)->value<std::string>();
+                    const auto body = std::find_if(scene.bodies.begin(), scene.bodies.end(), [&](const BodyLook& b) {
+                        return name && b.name == *name && !b.range.surface.empty();
+                    });
+                    if (body == scene.bodies.end()) {
+                        r.fail(a->get(k), "forces.wind.bodies[" + std::to_string(k) +
+                                              "] names no cloth or soft body (got " + describe(*a->get(k)) + ")");
+                    }
+                    for (const auto& tri : body->range.surface) w.triangles.push_back(tri);
+                }
+            }
+            scene.model.forces.push_back(std::move(w));
+        }
+        const auto floats = f.tables("buoyancy", 64);
+        for (std::size_t k = 0; k < floats.size(); ++k) {
+            const Section s(r, *floats[k], "forces.buoyancy[" + std::to_string(k) + "]");
+            s.only({"surface_height", "fluid_density", "radius", "drag", "particles"});
+            sim::Buoyancy b;
+            b.surface_height = s.number("surface_height", b.surface_height, -1e5, 1e5, "m");
+            b.fluid_density = s.positive("fluid_density", b.fluid_density, 1e6, "kg/m³");
+            b.radius = s.positive("radius", b.radius, 100.0, "m");
+            b.drag = s.number("drag", b.drag, 0.0, kHuge, "N·s/m");
+            b.particles = particle_list(s, "particles");
+            if (g == 0.0)
+                s.fail("surface_height", "needs [forces.gravity]: buoyancy is the weight of the water displaced");
+            b.gravity = g;
+            scene.view.water = true;
+            scene.view.water_height = b.surface_height;
+            scene.model.forces.push_back(std::move(b));
+        }
+        const auto shocks = f.tables("shock_waves", 64);
+        for (std::size_t k = 0; k < shocks.size(); ++k) {
+            const Section s(r, *shocks[k], "forces.shock_waves[" + std::to_string(k) + "]");
+            s.only({"center", "start_time", "speed", "thickness", "strength", "reference_distance", "max_radius"});
+            sim::ShockWave w;
+            w.center = s.vec3("center", w.center, "m");
+            w.start_time = s.number("start_time", w.start_time, 0.0, 1e6, "s");
+            w.speed = s.positive("speed", w.speed, 1e5, "m/s");
+            w.thickness = s.positive("thickness", w.thickness, 1e4, "m");
+            w.strength = s.number("strength", w.strength, 0.0, kHuge, "N");
+            w.reference_distance = s.positive("reference_distance", w.reference_distance, 1e4, "m");
+            w.max_radius = s.number("max_radius", w.max_radius, 0.0, 1e6, "m");
+            scene.model.forces.push_back(w);
+        }
+        const auto keys = f.tables("control", 10'000);
+        if (!keys.empty()) {
+            sim::ControlForces c;
+            for (std::size_t k = 0; k < keys.size(); ++k) {
+                const Section s(r, *keys[k], "forces.control[" + std::to_string(k) + "]");
+                s.only({"start", "end", "particles", "force"});
+                sim::ControlKey key;
+                key.start = s.number("start", 0.0, 0.0, 1e6, "s");
+                key.end = s.number("end", key.start + 1.0, 0.0, 1e6, "s");
+                if (!(key.end > key.start))
+                    s.fail("end", "must be after start (got " + sim::format_value(key.end) + ")");
+                key.particles = particle_list(s, "particles");
+                if (key.particles.empty()) s.fail("particles", "is required: the particles the key pushes");
+                key.force = s.vec3("force", sim::Vec3::Zero(), "N");
+                c.keys.push_back(std::move(key));
+            }
+            scene.model.forces.push_back(std::move(c));
         }
     }
 

@@ -112,6 +112,13 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
             scene_.model.collisions.colliders[k]);
     }
 
+    if (scene_.view.water) {
+        list.planes.push_back(
+            render::Plane{render::Vec3(0.0f, static_cast<float>(scene_.view.water_height), 0.0f), render::Vec3::UnitY(),
+                          render::Vec2(16.0f, 16.0f),
+                          render::Look{render::Color{0.05f, 0.3f, 0.7f, 1.0f}, true}});  // translucent: a ghost
+    }
+
     // Bodies: ropes as rods through their nodes, cloth and soft bodies as meshes.
     for (const BodyLook& body : scene_.bodies) {
         const sim::BodyRange& r = body.range;

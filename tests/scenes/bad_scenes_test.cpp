@@ -44,7 +44,8 @@ constexpr BadScene kCorpus[] = {
     {"position_inf.toml", 3, "particles[0].position[1] must be [x, y, z]"},
     {"velocity_nan.toml", 4, "particles[0].velocity[0] must be [x, y, z]"},
     {"mass_wrong_type.toml", 4, "particles[0].mass must be > 0 and finite, in kg (got the string 'heavy')"},
-    {"position_two_components.toml", 3, "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 2)"},
+    {"position_two_components.toml", 3,
+     "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 2)"},
     {"unknown_integrator.toml", 3, "step.integrator must be one of forward_euler"},
     {"substeps_zero.toml", 3, "step.substeps must be within 1 .. 10000 (got 0)"},
     {"spring_missing_particle.toml", 7, "forces.springs[0].b names no particle (got 'ghost')"},
@@ -52,9 +53,12 @@ constexpr BadScene kCorpus[] = {
     {"spring_to_itself.toml", 7, "forces.springs[0].b must be another particle than a"},
     {"duplicate_name.toml", 6, "particles[1].name must be unique: 'ball' is taken"},
     {"huge_group.toml", 3, "groups[0].count must be within 1 .. 1000000 (got 1000000000)"},
-    {"huge_array.toml", 3, "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 100000)"},
-    {"checkpoint_beyond_end.toml", 3, "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 90)"},
-    {"checkpoints_descending.toml", 3, "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 20)"},
+    {"huge_array.toml", 3,
+     "particles[0].position must be [x, y, z]: three finite numbers in m (got an array of 100000)"},
+    {"checkpoint_beyond_end.toml", 3,
+     "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 90)"},
+    {"checkpoints_descending.toml", 3,
+     "checkpoints[2] must be an integer frame within 0 .. frames (60), ascending (got 20)"},
     {"ghost_missing_particle.toml", 8, "ghosts[0].particle names no particle (got 'bal')"},
     {"ghost_wrong_solution.toml", 11, "ghosts[0].solution 'ballistic' needs uniform gravity and no drag"},
     {"bad_color.toml", 4, "particles[0].color must be \"#rrggbb\" or [r, g, b]"},
@@ -62,6 +66,12 @@ constexpr BadScene kCorpus[] = {
     {"camera_eye_is_target.toml", 4, "camera.target must differ from camera.eye"},
     {"frames_float.toml", 2, "frames must be an integer within 1 .. 10000000 (got 10.5)"},
     {"particles_not_array.toml", 2, "particles must be an array of tables"},
+    {"rope_zero_segments.toml", 6, "ropes[0].segments must be within 1 .. 4096 (got 0)"},
+    {"collider_unknown_shape.toml", 7, "colliders[0].shape must be one of plane, sphere, box, capsule (got 'torus')"},
+    {"cloth_bad_pins.toml", 6, "cloths[0].pins must be one of none, corners, edge, all (got 'top')"},
+    {"wind_unknown_body.toml", 8, "forces.wind.bodies[0] names no cloth or soft body (got the string 'flag')"},
+    {"restitution_above_one.toml", 7, "collisions.restitution must be within 0 .. 1"},
+    {"control_end_before_start.toml", 9, "forces.control[0].end must be after start (got 1)"},
 };
 
 struct Result {
@@ -88,7 +98,8 @@ TEST_P(BadSceneCorpus, ExitsTwoWithFileLineAndWritesNothing) {
     const fs::path file = fs::path(PLAUSIBLE_SOURCE_DIR) / "tests/data/bad_scenes" / bad.file;
     ASSERT_TRUE(fs::exists(file)) << file;
     const char* root = std::getenv("PLAUSIBLE_TEST_RESULTS");
-    const fs::path dir = fs::path(root != nullptr ? root : fs::temp_directory_path().string()) / "bad_scenes" / bad.file;
+    const fs::path dir =
+        fs::path(root != nullptr ? root : fs::temp_directory_path().string()) / "bad_scenes" / bad.file;
     fs::remove_all(dir);
     fs::create_directories(dir);
     const Result r = run("run '" + file.string() + "' --csv '" + (dir / "out.csv").string() + "'", dir);
