@@ -30,21 +30,13 @@ double depth(const Buoyancy& b, double y) { return b.surface_height - (y - b.rad
 double cap_volume(double r, double h) { return kPi * h * h * (3.0 * r - h) / 3.0; }
 
 void validate(const Buoyancy& b, std::size_t particle_count) {
-    auto positive = [](double v, const char* field, const char* unit) {
-        if (!(v > 0.0) || !std::isfinite(v)) {
-            throw InputError(std::string("buoyancy.") + field + " must be > 0 and finite, in " + unit + " (got " +
-                             format_value(v) + ")");
-        }
-    };
-    positive(b.fluid_density, "fluid_density", "kg/m³");
-    positive(b.gravity, "gravity", "m/s²");
-    positive(b.radius, "radius", "m");
+    require_positive(b.fluid_density, "buoyancy.fluid_density", "kg/m³");
+    require_positive(b.gravity, "buoyancy.gravity", "m/s²");
+    require_positive(b.radius, "buoyancy.radius", "m");
     if (!std::isfinite(b.surface_height)) {
         throw InputError("buoyancy.surface_height must be finite, in m (got " + format_value(b.surface_height) + ")");
     }
-    if (!(b.drag >= 0.0) || !std::isfinite(b.drag)) {
-        throw InputError("buoyancy.drag must be >= 0 and finite, in N·s/m (got " + format_value(b.drag) + ")");
-    }
+    require_nonnegative(b.drag, "buoyancy.drag", "N·s/m");
     for (std::size_t k = 0; k < b.particles.size(); ++k) {
         if (b.particles[k] >= particle_count) {
             throw InputError("buoyancy.particles[" + std::to_string(k) + "] is particle " +

@@ -18,12 +18,6 @@ struct Overloaded : Ts... {
     using Ts::operator()...;
 };
 
-void positive(double value, const std::string& name, const char* unit) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-        throw InputError(name + " must be > 0 and finite, in " + unit + " (got " + format_value(value) + ")");
-    }
-}
-
 void finite(const Vec3& v, const std::string& name, const char* unit) {
     if (!v.allFinite()) {
         throw InputError(name + " must be finite, in " + unit + " (got [" + format_value(v.x()) + ", " +
@@ -302,11 +296,11 @@ void validate(const Collisions& c) {
                 },
                 [&](const SphereCollider& s) {
                     finite(s.center, name + ".center", "m");
-                    positive(s.radius, name + ".radius", "m");
+                    require_positive(s.radius, name + ".radius", "m");
                 },
                 [&](const BoxCollider& b) {
                     finite(b.center, name + ".center", "m");
-                    for (int i = 0; i < 3; ++i) positive(b.half_extents[i], name + ".half_extents", "m");
+                    for (int i = 0; i < 3; ++i) require_positive(b.half_extents[i], name + ".half_extents", "m");
                     if (!b.rotation.allFinite() ||
                         (b.rotation.transpose() * b.rotation - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
                         b.rotation.determinant() < 0.0) {
@@ -316,7 +310,7 @@ void validate(const Collisions& c) {
                 [&](const CapsuleCollider& cap) {
                     finite(cap.a, name + ".a", "m");
                     finite(cap.b, name + ".b", "m");
-                    positive(cap.radius, name + ".radius", "m");
+                    require_positive(cap.radius, name + ".radius", "m");
                 },
             },
             c.colliders[k]);

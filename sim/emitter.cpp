@@ -41,14 +41,8 @@ void validate(const Emitter& e, std::size_t particle_count, std::size_t index) {
     if (!e.direction.allFinite() || std::abs(e.direction.norm() - 1.0) > 1e-9) {
         throw InputError(name + ".direction must be a unit vector");
     }
-    auto positive = [&](double v, const char* field, const char* unit) {
-        if (!(v > 0.0) || !std::isfinite(v)) {
-            throw InputError(name + "." + field + " must be > 0 and finite, in " + unit + " (got " + format_value(v) +
-                             ")");
-        }
-    };
-    positive(e.speed, "speed", "m/s");
-    positive(e.rate, "rate", "particles/s");
+    require_positive(e.speed, name + ".speed", "m/s");
+    require_positive(e.rate, name + ".rate", "particles/s");
     if (!(e.cone >= 0.0 && e.cone <= 180.0)) {
         throw InputError(name + ".cone must be within 0 .. 180, in degrees (got " + format_value(e.cone) + ")");
     }

@@ -18,4 +18,10 @@ public:
 // Formats a double the way messages quote values: shortest round-trip form.
 std::string format_value(double value);
 
+// The checks every description repeats. They throw InputError worded
+// "<name> must be > 0 and finite, in <unit> (got <value>)" (no ", in" part
+// when unit is empty).
+void require_positive(double value, const std::string& name, const std::string& unit);
+void require_nonnegative(double value, const std::string& name, const std::string& unit);
+
 }  // namespace sim

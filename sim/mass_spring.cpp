@@ -22,22 +22,10 @@ void check_count(int n, int lo, const std::string& name) {
     }
 }
 
-void check_positive(double value, const std::string& name, const char* unit) {
-    if (!(value > 0.0) || !std::isfinite(value)) {
-        throw InputError(name + " must be > 0 and finite, in " + unit + " (got " + format_value(value) + ")");
-    }
-}
-
-void check_nonnegative(double value, const std::string& name, const char* unit) {
-    if (!(value >= 0.0) || !std::isfinite(value)) {
-        throw InputError(name + " must be >= 0 and finite, in " + unit + " (got " + format_value(value) + ")");
-    }
-}
-
 void check_links(const LinkSettings& l, const std::string& body) {
-    check_nonnegative(l.stiffness, body + ".stiffness", "N/m");
-    check_nonnegative(l.damping, body + ".damping", "N·s/m");
-    check_nonnegative(l.compliance, body + ".compliance", "m/N");
+    require_nonnegative(l.stiffness, body + ".stiffness", "N/m");
+    require_nonnegative(l.damping, body + ".damping", "N·s/m");
+    require_nonnegative(l.compliance, body + ".compliance", "m/N");
 }
 
 // Appends one link a-b at its current distance, with the stiffness scaled by
@@ -80,8 +68,8 @@ void add_nodes(ParticleModel& model, std::size_t count) {
 
 BodyRange add_rope(ParticleModel& model, const RopeDef& rope) {
     check_count(rope.segments, 1, "rope.segments");
-    check_positive(rope.mass, "rope.mass", "kg");
-    check_nonnegative(rope.radius, "rope.radius", "m");
+    require_positive(rope.mass, "rope.mass", "kg");
+    require_nonnegative(rope.radius, "rope.radius", "m");
     check_links(rope.links, "rope");
     if (!rope.start.allFinite() || !rope.end.allFinite() || (rope.end - rope.start).norm() == 0.0) {
         throw InputError("rope.start and rope.end must be finite and apart, in m");
@@ -120,10 +108,10 @@ BodyRange add_rope(ParticleModel& model, const RopeDef& rope) {
 BodyRange add_cloth(ParticleModel& model, const ClothDef& cloth) {
     check_count(cloth.nx, 2, "cloth.nx");
     check_count(cloth.ny, 2, "cloth.ny");
-    check_positive(cloth.mass, "cloth.mass", "kg");
-    check_nonnegative(cloth.radius, "cloth.radius", "m");
-    check_nonnegative(cloth.shear, "cloth.shear", "(a factor)");
-    check_nonnegative(cloth.bend, "cloth.bend", "(a factor)");
+    require_positive(cloth.mass, "cloth.mass", "kg");
+    require_nonnegative(cloth.radius, "cloth.radius", "m");
+    require_nonnegative(cloth.shear, "cloth.shear", "(a factor)");
+    require_nonnegative(cloth.bend, "cloth.bend", "(a factor)");
     check_links(cloth.links, "cloth");
     if (!cloth.corner.allFinite() || !cloth.u.allFinite() || !cloth.v.allFinite() ||
         cloth.u.cross(cloth.v).norm() == 0.0) {
@@ -207,10 +195,10 @@ BodyRange add_lattice(ParticleModel& model, const LatticeDef& def) {
     check_count(def.nx, 2, "soft_body.nx");
     check_count(def.ny, 2, "soft_body.ny");
     check_count(def.nz, 2, "soft_body.nz");
-    check_positive(def.mass, "soft_body.mass", "kg");
-    check_nonnegative(def.radius, "soft_body.radius", "m");
+    require_positive(def.mass, "soft_body.mass", "kg");
+    require_nonnegative(def.radius, "soft_body.radius", "m");
     check_links(def.links, "soft_body");
-    for (int k = 0; k < 3; ++k) check_positive(def.size[k], "soft_body.size", "m");
+    for (int k = 0; k < 3; ++k) require_positive(def.size[k], "soft_body.size", "m");
     if (!def.corner.allFinite() || !def.velocity.allFinite()) {
         throw InputError("soft_body.corner and soft_body.velocity must be finite");
     }

@@ -16,6 +16,28 @@ std::string format_value(double value) {
 
 namespace {
 
+std::string expectation(const char* what, const std::string& unit) {
+    return std::string(what) + (unit.empty() ? "" : ", in " + unit);
+}
+
+}  // namespace
+
+void require_positive(double value, const std::string& name, const std::string& unit) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+        throw InputError(name + " must be " + expectation("> 0 and finite", unit) + " (got " + format_value(value) +
+                         ")");
+    }
+}
+
+void require_nonnegative(double value, const std::string& name, const std::string& unit) {
+    if (!(value >= 0.0) || !std::isfinite(value)) {
+        throw InputError(name + " must be " + expectation(">= 0 and finite", unit) + " (got " + format_value(value) +
+                         ")");
+    }
+}
+
+namespace {
+
 bool is_finite(const Vec3& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
 std::string format_vec(const Vec3& p) {

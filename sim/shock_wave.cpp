@@ -10,15 +10,9 @@ namespace sim {
 
 void validate(const ShockWave& s, std::size_t) {
     if (!s.center.allFinite()) throw InputError("shock_wave.center must be finite, in m");
-    auto positive = [](double v, const char* field, const char* unit) {
-        if (!(v > 0.0) || !std::isfinite(v)) {
-            throw InputError(std::string("shock_wave.") + field + " must be > 0 and finite, in " + unit + " (got " +
-                             format_value(v) + ")");
-        }
-    };
-    positive(s.speed, "speed", "m/s");
-    positive(s.thickness, "thickness", "m");
-    positive(s.reference_distance, "reference_distance", "m");
+    require_positive(s.speed, "shock_wave.speed", "m/s");
+    require_positive(s.thickness, "shock_wave.thickness", "m");
+    require_positive(s.reference_distance, "shock_wave.reference_distance", "m");
     if (!std::isfinite(s.start_time)) throw InputError("shock_wave.start_time must be finite, in s");
     if (!(s.strength >= 0.0) || !std::isfinite(s.strength)) {
         throw InputError("shock_wave.strength must be >= 0 and finite, in N (got " + format_value(s.strength) + ")");

@@ -29,15 +29,9 @@ Verdict exploded(std::uint64_t frame, const char* quantity, std::size_t index, d
 }  // namespace
 
 void validate(const WatchdogLimits& limits) {
-    auto positive = [](double value, const char* name, const char* unit) {
-        if (!(value > 0.0) || !std::isfinite(value)) {
-            throw InputError(std::string("watchdog.") + name + " must be > 0 and finite, in " + unit + " (got " +
-                             format_value(value) + ")");
-        }
-    };
-    positive(limits.max_speed, "max_speed", "m/s");
-    positive(limits.world_half_extent, "world_half_extent", "m");
-    positive(limits.energy_floor, "energy_floor", "J");
+    require_positive(limits.max_speed, "watchdog.max_speed", "m/s");
+    require_positive(limits.world_half_extent, "watchdog.world_half_extent", "m");
+    require_positive(limits.energy_floor, "watchdog.energy_floor", "J");
     if (!std::isfinite(limits.energy_growth) || (limits.energy_growth != 0.0 && limits.energy_growth < 1.0)) {
         throw InputError("watchdog.energy_growth must be 0 (off) or >= 1 (got " + format_value(limits.energy_growth) +
                          ")");

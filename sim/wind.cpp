@@ -33,19 +33,11 @@ Vec3 wind_at(const Wind& w, double t) {
 
 void validate(const Wind& w, std::size_t particle_count) {
     if (!w.velocity.allFinite()) throw InputError("wind.velocity must be finite, in m/s");
-    auto nonnegative = [](double v, const char* field, const char* unit) {
-        if (!(v >= 0.0) || !std::isfinite(v)) {
-            throw InputError(std::string("wind.") + field + " must be >= 0 and finite" + unit + " (got " +
-                             format_value(v) + ")");
-        }
-    };
-    nonnegative(w.air_density, "air_density", ", in kg/m³");
-    nonnegative(w.drag_coefficient, "drag_coefficient", "");
-    nonnegative(w.radius, "radius", ", in m");
-    nonnegative(w.gust_strength, "gust_strength", ", in m/s");
-    if (!(w.gust_period > 0.0) || !std::isfinite(w.gust_period)) {
-        throw InputError("wind.gust_period must be > 0 and finite, in s (got " + format_value(w.gust_period) + ")");
-    }
+    require_nonnegative(w.air_density, "wind.air_density", "kg/m³");
+    require_nonnegative(w.drag_coefficient, "wind.drag_coefficient", "");
+    require_nonnegative(w.radius, "wind.radius", "m");
+    require_nonnegative(w.gust_strength, "wind.gust_strength", "m/s");
+    require_positive(w.gust_period, "wind.gust_period", "s");
     auto check = [&](std::uint32_t p, const std::string& what) {
         if (p >= particle_count) {
             throw InputError("wind." + what + " names particle " + std::to_string(p) + ", but there are only " +

@@ -21,8 +21,8 @@ namespace sim {
 struct ParticleModel {
     std::vector<ParticleDef> particles;
     std::vector<ForceDef> forces;
-    Constraints constraints;  // XPBD, solved after every integrator substep
-    Collisions collisions;    // resolved after the constraints
+    Constraints constraints;        // XPBD, solved after every integrator substep
+    Collisions collisions;          // resolved after the constraints
     std::vector<Emitter> emitters;  // cosmetic particle sources (their particles start pinned, parked)
 };
 
