@@ -13,13 +13,16 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Calls f(local index) for each particle the generator acts on in the block.
+// Calls f(block index) for each particle the generator acts on in the block
+// [first, first + n); `particles` holds global indices.
 template <typename F>
 void for_each_particle(const Buoyancy& b, const ForceInput& in, F&& f) {
     if (b.particles.empty()) {
         for (std::size_t i = 0; i < in.x.n; ++i) f(i);
     } else {
-        for (std::uint32_t p : b.particles) f(p);  // non-local: the block is the whole system
+        for (std::uint32_t p : b.particles) {
+            if (p >= in.first && p - in.first < in.x.n) f(p - in.first);
+        }
     }
 }
 

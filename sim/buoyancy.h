@@ -20,14 +20,14 @@ struct Buoyancy {
     double gravity = 9.81;                 // m/s², the magnitude of g (acting along -y)
     double radius = 0.1;                   // m, each particle's sphere (> 0)
     double drag = 0.0;                     // N·s/m, linear drag when fully submerged (>= 0)
-    std::vector<std::uint32_t> particles;  // the ones that float; empty: all
+    std::vector<std::uint32_t> particles;  // the ones that float (global indices); empty: all
 };
 
 // Submerged cap volume of a sphere of radius r at submerged depth h in [0, 2r], m³.
 double cap_volume(double r, double h);
 
 void validate(const Buoyancy& b, std::size_t particle_count);
-inline bool is_local(const Buoyancy& b) { return b.particles.empty(); }
+constexpr bool is_local(const Buoyancy&) { return true; }  // each particle alone
 void accumulate(const Buoyancy& b, const ForceInput& in, Vec3Span f);
 // U = ρ g ∫₀^u V(s) ds over the unclamped depth u = s - (y - r), so that
 // f_y = -dU/dy: π ρ g (r u³ - u⁴/4) / 3 while partly submerged, then growing

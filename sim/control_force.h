@@ -15,7 +15,7 @@ namespace sim {
 struct ControlKey {
     double start = 0.0;                    // s
     double end = 1.0;                      // s (> start); the key acts during [start, end)
-    std::vector<std::uint32_t> particles;  // who is pushed
+    std::vector<std::uint32_t> particles;  // who is pushed (global indices)
     Vec3 force = Vec3::Zero();             // N, on each of them
 };
 
@@ -24,7 +24,9 @@ struct ControlForces {
 };
 
 void validate(const ControlForces& c, std::size_t particle_count);
-constexpr bool is_local(const ControlForces&) { return false; }  // keys name particles of the whole system
+// Each listed particle's push depends on nothing else (a block picks out the
+// particles it holds).
+constexpr bool is_local(const ControlForces&) { return true; }
 void accumulate(const ControlForces& c, const ForceInput& in, Vec3Span f);
 inline double potential_energy(const ControlForces&, const ForceInput&) { return 0.0; }
 // Independent of x and v: both Jacobians are zero.

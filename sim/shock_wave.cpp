@@ -9,11 +9,16 @@
 namespace sim {
 
 void validate(const ShockWave& s, std::size_t) {
-    if (!s.center.allFinite()) throw InputError("shock_wave.center must be finite, in m");
+    if (!s.center.allFinite()) {
+        throw InputError("shock_wave.center must be finite, in m (got " + format_value(s.center.x()) + ", " +
+                         format_value(s.center.y()) + ", " + format_value(s.center.z()) + ")");
+    }
     require_positive(s.speed, "shock_wave.speed", "m/s");
     require_positive(s.thickness, "shock_wave.thickness", "m");
     require_positive(s.reference_distance, "shock_wave.reference_distance", "m");
-    if (!std::isfinite(s.start_time)) throw InputError("shock_wave.start_time must be finite, in s");
+    if (!std::isfinite(s.start_time)) {
+        throw InputError("shock_wave.start_time must be finite, in s (got " + format_value(s.start_time) + ")");
+    }
     if (!(s.strength >= 0.0) || !std::isfinite(s.strength)) {
         throw InputError("shock_wave.strength must be >= 0 and finite, in N (got " + format_value(s.strength) + ")");
     }
@@ -33,8 +38,13 @@ void accumulate(const ShockWave& s, const ForceInput& in, Vec3Span f) {
         const double r = d.norm();
         if (r == 0.0 || std::abs(r - front) >= half) continue;  // at the centre there is no outward
         if (s.max_radius > 0.0 && r > s.max_radius) continue;
+        // Inverse-square fall-off, capped inside reference_distance, along
+        // d / r. strength / r can overflow only for r within ~1e-300 m of the
+        // centre; there the unit direction is formed first. (Elsewhere the
+        // first form stays: the goldens' state hashes were recorded with it.)
         const double ratio = s.reference_distance / std::max(r, s.reference_distance);
-        f.add(i, (s.strength * ratio * ratio / r) * d);
+        const double scale = s.strength * ratio * ratio / r;  // N/m
+        f.add(i, std::isfinite(scale) ? Vec3(scale * d) : Vec3((s.strength * ratio * ratio) * (d / r)));
     }
 }
 

@@ -13,6 +13,7 @@ namespace sim {
 
 namespace {
 
+// Key k's gust: three normal draws from a generator seeded by (seed, k) alone.
 Vec3 gust_key(const Wind& w, std::int64_t k) {
     Random r(w.seed ^ (0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(k + 1)));
     const double gx = r.normal(), gy = r.normal(), gz = r.normal();
@@ -32,7 +33,10 @@ Vec3 wind_at(const Wind& w, double t) {
 }
 
 void validate(const Wind& w, std::size_t particle_count) {
-    if (!w.velocity.allFinite()) throw InputError("wind.velocity must be finite, in m/s");
+    if (!w.velocity.allFinite()) {
+        throw InputError("wind.velocity must be finite, in m/s (got " + format_value(w.velocity.x()) + ", " +
+                         format_value(w.velocity.y()) + ", " + format_value(w.velocity.z()) + ")");
+    }
     require_nonnegative(w.air_density, "wind.air_density", "kg/m³");
     require_nonnegative(w.drag_coefficient, "wind.drag_coefficient", "");
     require_nonnegative(w.radius, "wind.radius", "m");
@@ -53,7 +57,7 @@ void validate(const Wind& w, std::size_t particle_count) {
 void accumulate(const Wind& w, const ForceInput& in, Vec3Span f) {
     const Vec3 wind = wind_at(w, in.t);
     const double half_rho_cd = 0.5 * w.air_density * w.drag_coefficient;
-    for (const auto& [a, b, c] : w.triangles) {
+    for (const auto& [a, b, c] : w.triangles) {  // with triangles the block is the whole system (first = 0)
         const Vec3 xa = in.x.get(a), xb = in.x.get(b), xc = in.x.get(c);
         const Vec3 cross = (xb - xa).cross(xc - xa);  // |cross| = 2 A
         const double twice_area = cross.norm();
@@ -66,10 +70,14 @@ void accumulate(const Wind& w, const ForceInput& in, Vec3Span f) {
         f.add(b, third);
         f.add(c, third);
     }
+    // Lone particles: global indices, of which a block (when the wind is
+    // local) holds those in [first, first + n).
     const double section = std::numbers::pi * w.radius * w.radius;
     for (std::uint32_t p : w.particles) {
-        const Vec3 u = wind - in.v.get(p);
-        f.add(p, (half_rho_cd * section * u.norm()) * u);
+        if (p < in.first || p - in.first >= in.x.n) continue;
+        const std::size_t i = p - in.first;
+        const Vec3 u = wind - in.v.get(i);
+        f.add(i, (half_rho_cd * section * u.norm()) * u);
     }
 }
 

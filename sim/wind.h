@@ -10,9 +10,11 @@
 //
 // Gusts: w(t) = velocity + g(t), with a random gust g_k (each component
 // normal, standard deviation gust_strength) at the keys t_k = k gust_period,
-// eased between keys by smoothstep (C¹). g_k is drawn from the project PRNG
-// seeded by (seed, k): w is a pure function of time, so a rewound or
-// replayed run sees the same wind.
+// eased between keys by smoothstep (C¹). g_k is three normal() draws of the
+// project PRNG Random(seed ^ (0x9E3779B97F4A7C15 (k + 1))) (the golden-ratio
+// constant spreads consecutive keys over the seed space; k + 1 so that key 0
+// does not reuse the bare seed): w is a pure function of time with no state,
+// so a rewound or replayed run sees the same wind, bit for bit.
 #pragma once
 
 #include "sim/force.h"
@@ -27,7 +29,7 @@ struct Wind {
     Vec3 velocity = Vec3(3, 0, 0);                        // m/s, the mean wind
     double air_density = 1.2;                             // kg/m³ (>= 0)
     double drag_coefficient = 1.0;                        // C_d, dimensionless (>= 0)
-    std::vector<std::array<std::uint32_t, 3>> triangles;  // surfaces the wind presses on
+    std::vector<std::array<std::uint32_t, 3>> triangles;  // surfaces it presses on, as BodyRange::surface
     std::vector<std::uint32_t> particles;                 // lone particles it blows on
     double radius = 0.05;                                 // m, those particles' radius
     double gust_strength = 0.0;                           // m/s, standard deviation of each gust component
@@ -35,11 +37,13 @@ struct Wind {
     std::uint64_t seed = 1;
 };
 
-// The wind velocity at time t (mean plus gust), m/s.
+// The wind velocity at time t (mean plus gust), m/s. Exactly `velocity` when
+// gust_strength is 0.
 Vec3 wind_at(const Wind& wind, double t);
 
 void validate(const Wind& wind, std::size_t particle_count);
-constexpr bool is_local(const Wind&) { return false; }  // triangles couple their corners
+// Triangles couple their corners; lone particles feel only their own velocity.
+inline bool is_local(const Wind& wind) { return wind.triangles.empty(); }
 void accumulate(const Wind& wind, const ForceInput& in, Vec3Span f);
 inline double potential_energy(const Wind&, const ForceInput&) { return 0.0; }  // driven
 // None: implicit methods take the wind explicitly (it is soft, and its

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace sim::test {
 namespace {
 
@@ -24,9 +26,45 @@ TEST(ControlForces, AKeyPushesDuringItsIntervalAndItsImpulseIsForceTimesDuration
     EXPECT_EQ(p1.x(), 0.0);
 }
 
+// Force on two particles at time t, N.
+Vec3Array forces_at(const ControlForces& c, double t) {
+    Vec3Array x(2), v(2), f(2);
+    const double mass[2] = {1, 1}, inv[2] = {1, 1};
+    accumulate(c, {t, 0, x.span(), v.span(), mass, inv}, f.span());
+    return f;
+}
+
+TEST(ControlForces, OnDuringStartToEndAndSummedWhereKeysOverlap) {
+    const ControlForces c{{{1.0, 2.0, {0}, Vec3(3, 0, 0)}, {1.5, 3.0, {0, 1}, Vec3(0, -2, 0.5)}}};
+    EXPECT_EQ(forces_at(c, 0.999).get(0), Vec3::Zero()) << "before the first key";
+    EXPECT_EQ(forces_at(c, 1.0).get(0), Vec3(3, 0, 0)) << "on at start";
+    EXPECT_EQ(forces_at(c, 1.0).get(1), Vec3::Zero()) << "particle 1 is not in the first key";
+    EXPECT_EQ(forces_at(c, 1.7).get(0), Vec3(3, -2, 0.5)) << "both keys: summed";
+    EXPECT_EQ(forces_at(c, 1.7).get(1), Vec3(0, -2, 0.5));
+    EXPECT_EQ(forces_at(c, 2.0).get(0), Vec3(0, -2, 0.5)) << "the first key is off at its end";
+    EXPECT_EQ(forces_at(c, 3.0).get(1), Vec3::Zero()) << "off at end";
+    // A particle listed twice in one key is pushed twice.
+    const ControlForces twice{{{0.0, 1.0, {1, 1}, Vec3(1, 0, 0)}}};
+    EXPECT_EQ(forces_at(twice, 0.5).get(1), Vec3(2, 0, 0));
+}
+
 TEST(ControlForces, ValidationNamesTheKey) {
     ControlForces c{{{1.0, 0.5, {0}, Vec3::UnitX()}}};
+    try {
+        validate(c, 1);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "control.keys[0] must have start < end, finite, in s (got 1 .. 0.5)");
+    }
+    c.keys[0].end = 1.0;  // empty interval
     EXPECT_THROW(validate(c, 1), InputError);
+    c.keys[0] = {0.0, 1.0, {0}, Vec3(0, NAN, 0)};
+    try {
+        validate(c, 1);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "control.keys[0].force must be finite, in N (got 0, nan, 0)");
+    }
     c.keys[0] = {0.0, 1.0, {4}, Vec3::UnitX()};
     try {
         validate(c, 2);

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <functional>
+#include <utility>
 
 namespace sim {
 namespace {
@@ -209,6 +210,67 @@ TEST(ParticleForces, UniformFieldEqualsTheGeneratorsItSums) {
     std::vector<ForceDef> with_spring = forces;
     with_spring.push_back(Springs{{{0, 1, 0.5, 10.0, 0.0}}});
     EXPECT_EQ(ParticleForces(with_spring, fx.mass, fx.inv_mass).uniform_field(), nullptr);
+}
+
+// A local generator may be evaluated block by block (World::step_once does
+// when every generator is local): the blocks must give the whole system's
+// force, bit for bit, and Jacobians shifted by each block's first index.
+void expect_same_block_by_block(const ForceDef& def, const Fixture& fx, std::size_t split) {
+    ASSERT_TRUE(std::visit([](const auto& g) { return is_local(g); }, def)) << force_name(def);
+    const std::size_t n = fx.x.size();
+    const Vec3Array whole = force_of(def, fx);
+    Vec3Array blocks(n);
+    Jacobians whole_jac, block_jac;
+    std::visit([&](const auto& g) { accumulate_jacobians(g, fx.input(), whole_jac); }, def);
+    for (const auto& [first, count] : {std::pair{std::size_t{0}, split}, std::pair{split, n - split}}) {
+        const ForceInput in{0.0,
+                            first,
+                            fx.x.span().block(first, count),
+                            fx.v.span().block(first, count),
+                            fx.mass.data() + first,
+                            fx.inv_mass.data() + first};
+        std::visit([&](const auto& g) { accumulate(g, in, blocks.span().block(first, count)); }, def);
+        Jacobians jac;
+        std::visit([&](const auto& g) { accumulate_jacobians(g, in, jac); }, def);
+        const int shift = static_cast<int>(3 * first);
+        for (const auto& e : jac.dfdx) block_jac.dfdx.emplace_back(e.row() + shift, e.col() + shift, e.value());
+        for (const auto& e : jac.dfdv) block_jac.dfdv.emplace_back(e.row() + shift, e.col() + shift, e.value());
+    }
+    for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(blocks.get(i), whole.get(i)) << force_name(def) << " particle " << i;
+    auto same = [&](const auto& a, const auto& b) {
+        Eigen::SparseMatrix<double> ma(3 * n, 3 * n), mb(3 * n, 3 * n);
+        ma.setFromTriplets(a.begin(), a.end());
+        mb.setFromTriplets(b.begin(), b.end());
+        return Eigen::MatrixXd(ma - mb).isZero(0.0);
+    };
+    EXPECT_TRUE(same(whole_jac.dfdx, block_jac.dfdx)) << force_name(def) << " df/dx";
+    EXPECT_TRUE(same(whole_jac.dfdv, block_jac.dfdv)) << force_name(def) << " df/dv";
+}
+
+TEST(ParticleForces, LocalGeneratorsGiveTheSameForceBlockByBlock) {
+    Fixture fx(7);
+    Wind lone;
+    lone.velocity = Vec3(2, 0, -1);
+    lone.particles = {6, 1, 3};
+    expect_same_block_by_block(lone, fx, 3);
+    expect_same_block_by_block(Buoyancy{0.5, 1000.0, 9.81, 0.4, 3.0, {}}, fx, 3);
+    expect_same_block_by_block(Buoyancy{0.5, 1000.0, 9.81, 0.4, 3.0, {5, 2, 0}}, fx, 3);
+    ShockWave shock;
+    shock.speed = 1.0;
+    shock.thickness = 4.0;  // at t = 0 the shell covers r < 2 m
+    expect_same_block_by_block(shock, fx, 4);
+    expect_same_block_by_block(ControlForces{{{0.0, 1.0, {6, 0, 3}, Vec3(1, 2, 3)}, {-1.0, 0.5, {3}, Vec3(0, 1, 0)}}},
+                               fx, 3);
+    Wind cloth;
+    cloth.triangles = {{0, 1, 2}};
+    EXPECT_FALSE(is_local(cloth)) << "a wind with triangles couples their corners";
+}
+
+TEST(ParticleForces, SceneFileNames) {
+    EXPECT_STREQ(force_name(Wind{}), "wind");
+    EXPECT_STREQ(force_name(Buoyancy{}), "buoyancy");
+    EXPECT_STREQ(force_name(ShockWave{}), "shock_wave");
+    EXPECT_STREQ(force_name(ControlForces{}), "control");
 }
 
 TEST(NewtonGravity, InverseSquareLaw) {

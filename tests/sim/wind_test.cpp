@@ -11,14 +11,15 @@
 namespace sim::test {
 namespace {
 
-// Forces of `wind` on three resting particles at a, b, c.
-Vec3Array forces(const Wind& wind, const Vec3& a, const Vec3& b, const Vec3& c, double t = 0.0) {
+// Forces of `wind` on three particles at a, b, c, all moving at `velocity`.
+Vec3Array forces(const Wind& wind, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& velocity = Vec3::Zero()) {
     Vec3Array x(3), v(3), f(3);
     x.set(0, a);
     x.set(1, b);
     x.set(2, c);
+    for (std::size_t i = 0; i < 3; ++i) v.set(i, velocity);
     const double mass[3] = {1, 1, 1}, inv[3] = {1, 1, 1};
-    accumulate(wind, {t, 0, x.span(), v.span(), mass, inv}, f.span());
+    accumulate(wind, {0.0, 0, x.span(), v.span(), mass, inv}, f.span());
     return f;
 }
 
@@ -39,6 +40,58 @@ TEST(Wind, APlateFacingTheWindFeelsHalfRhoCdAUSquared) {
     // Degenerate (coincident corners): nothing, and no NaN.
     const Vec3Array flat = forces(w, Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1));
     EXPECT_EQ(flat.get(0), Vec3::Zero());
+}
+
+TEST(Wind, ATiltedPlateFeelsCosineSquaredAlongItsNormal) {
+    // The same plate turned by 60° about z: its normal n = (cos 60°, sin 60°, 0)
+    // sees u·n = |w| cos 60°, so F = ½ ρ C_d A |w|² cos² 60° n in total.
+    Wind w;
+    w.velocity = Vec3(10, 0, 0);
+    w.air_density = 1.25;
+    w.drag_coefficient = 1.2;
+    w.triangles = {{0, 1, 2}};
+    const double angle = std::numbers::pi / 3;
+    const Vec3 n(std::cos(angle), std::sin(angle), 0.0);
+    const Vec3 along(-std::sin(angle), std::cos(angle), 0.0);  // in the plate, perpendicular to z
+    const Vec3Array f = forces(w, Vec3(0, 0, 0), along, Vec3(0, 0, 1));
+    const double cosine = std::cos(angle);
+    const Vec3 expected = (0.5 * 1.25 * 1.2 * 0.5 * 100.0 * cosine * cosine) * n;  // N, whole plate
+    EXPECT_LT((f.get(0) + f.get(1) + f.get(2) - expected).norm(), 1e-12) << "N, total " << expected.transpose();
+    EXPECT_EQ(f.get(0), f.get(1)) << "every corner gets the same third";
+    EXPECT_EQ(f.get(0), f.get(2)) << "every corner gets the same third";
+    // Winding the triangle the other way flips n and (u·n): the same force.
+    w.triangles = {{0, 2, 1}};
+    const Vec3Array flipped = forces(w, Vec3(0, 0, 0), along, Vec3(0, 0, 1));
+    EXPECT_LT((flipped.get(0) - f.get(0)).norm(), 1e-12) << "N";
+}
+
+TEST(Wind, APlateMovingWithTheWindFeelsOnlyTheRelativeWind) {
+    Wind w;
+    w.velocity = Vec3(10, 0, 0);
+    w.triangles = {{0, 1, 2}};
+    const Vec3Array with = forces(w, Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(10, 0, 0));
+    EXPECT_EQ(with.get(0), Vec3::Zero()) << "N, no relative wind";
+    // Running into the wind at 5 m/s: u = 15 m/s.
+    const Vec3Array against = forces(w, Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(-5, 0, 0));
+    EXPECT_NEAR(against.get(0).x(), 0.5 * 1.2 * 1.0 * 0.5 * 225.0 / 3, 1e-12) << "N, corner 0";
+}
+
+TEST(Wind, DegenerateTrianglesGetNothingAndNoNaN) {
+    Wind w;
+    w.velocity = Vec3(10, -3, 2);
+    w.gust_strength = 1.0;
+    w.triangles = {{0, 1, 2}};
+    // Collinear corners (zero area, distinct points), then all three on one point.
+    for (const Vec3Array& f : {forces(w, Vec3(0, 0, 0), Vec3(1, 1, 1), Vec3(2, 2, 2)),
+                               forces(w, Vec3(1, 1, 1), Vec3(1, 1, 1), Vec3(1, 1, 1))}) {
+        for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(f.get(i), Vec3::Zero()) << "N, corner " << i;
+    }
+    // A lone particle moving exactly with the wind: |u| = 0, no NaN.
+    Wind calm;
+    calm.velocity = Vec3(1, 2, 3);
+    calm.particles = {0};
+    const Vec3Array f = forces(calm, Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3(1, 2, 3));
+    EXPECT_EQ(f.get(0), Vec3::Zero());
 }
 
 TEST(Wind, ALoneSphereFeelsItsCrossSection) {
@@ -73,14 +126,34 @@ TEST(Wind, GustsAreAPureSmoothFunctionOfTime) {
     EXPECT_LT((sum / n).norm(), 5 * 2.0 * std::sqrt(3.0 / n)) << "m/s";
     EXPECT_NEAR(std::sqrt(sum2 / n), 2.0, 0.1) << "m/s, the gust's standard deviation";
     Wind calm;
-    EXPECT_EQ(wind_at(calm, 12.0), calm.velocity);
+    calm.velocity = Vec3(1.5, -0.5, 2.0);
+    for (double t : {-3.0, 0.0, 0.37, 12.0, 1e5}) EXPECT_EQ(wind_at(calm, t), calm.velocity) << "t = " << t << " s";
+}
+
+TEST(Wind, LocalOnlyWithoutTriangles) {
+    Wind w;
+    w.particles = {0, 2};
+    EXPECT_TRUE(is_local(w)) << "lone particles feel only their own velocity";
+    w.triangles = {{0, 1, 2}};
+    EXPECT_FALSE(is_local(w)) << "a triangle couples its corners";
 }
 
 TEST(Wind, ValidationNamesTheField) {
     Wind w;
     w.triangles = {{0, 1, 5}};
-    EXPECT_THROW(validate(w, 3), InputError);
+    try {
+        validate(w, 3);
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_STREQ(e.what(), "wind.triangles[0] names particle 5, but there are only 3");
+    }
     w.triangles.clear();
+    w.air_density = -1.0;
+    EXPECT_THROW(validate(w, 3), InputError);
+    w.air_density = 1.2;
+    w.velocity = Vec3(NAN, 0, 0);
+    EXPECT_THROW(validate(w, 3), InputError);
+    w.velocity = Vec3(1, 0, 0);
     w.gust_period = 0.0;
     try {
         validate(w, 3);
