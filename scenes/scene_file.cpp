@@ -35,7 +35,8 @@
 //   [[emitters]] name, count, position (m), direction, cone (deg), speed (m/s), speed_jitter,
 //                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
 //   [constraints] iterations (Gauss-Seidel sweeps per substep)
-//   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool)
+//   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool;
+//                also a cloth's self-collision when its radius is under half its link length)
 //   [[colliders]] shape = "plane" (normal, offset m) | "sphere" (center, radius) |
 //                "box" (center, half_extents, rotation = [x, y, z] degrees) | "capsule" (a, b, radius);
 //                color; visible (planes at the ground are not drawn twice)
