@@ -1,0 +1,110 @@
+// Rigid bodies through ODE (Debian's libode-dev, 0.16): the lecture's rigid
+// bodies (mass, barycenter, inertia tensor), stepped by ODE's solver, with
+// contacts from ODE's collider in a hash space.
+//
+// A thin RAII layer: ODE's init/close, its world, space, contact group and
+// bodies live behind RigidWorld; callers hold BodyId {index, generation}
+// values (an id of a removed body is detected, not dereferenced). No raw ODE
+// handle leaves this file's .cpp.
+//
+// Determinism: ODE's quickstep shuffles constraints with ODE's one global
+// random generator. Before every step the world seeds it from its own seed
+// and step count, so two worlds stepped in any interleaving (side-by-side
+// videos, the same scene twice in one process) give the same bits as each
+// alone.
+#pragma once
+
+#include "sim/vec3_array.h"
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sim {
+
+struct BodyId {
+    std::uint32_t index = ~0u;
+    std::uint32_t generation = 0;
+    bool operator==(const BodyId&) const = default;
+};
+
+enum class RigidShape { box, sphere, capsule, cylinder };
+
+// A body as a scene describes it. Mass comes from `mass` if > 0, else from
+// `density` and the shape's volume; the inertia tensor from the shape.
+struct BodyDef {
+    RigidShape shape = RigidShape::box;
+    // box: full extents along x, y, z; sphere: radius = size.x; capsule and
+    // cylinder: radius = size.x, length = size.y of the straight part, along
+    // the body's local z (ODE's convention).
+    Vec3 size = Vec3(0.5, 0.5, 0.5);  // m
+    double mass = 1.0;                // kg (> 0), or 0 to use density
+    double density = 1000.0;          // kg/m³ (> 0), when mass is 0
+    Vec3 position = Vec3::Zero();     // m, of the centre of mass
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    Vec3 velocity = Vec3::Zero();          // m/s
+    Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
+    // Where the centre of mass sits in the shape's own frame (the lecture:
+    // the barycenter need not be the local origin). The body's origin is its
+    // centre of mass; the geometry is drawn and collides shifted by -com.
+    Vec3 com = Vec3::Zero();  // m
+};
+
+struct RigidSettings {
+    Vec3 gravity = Vec3(0, -9.81, 0);  // m/s²
+    bool quickstep = true;             // dWorldQuickStep (iterative) or dWorldStep (exact LCP)
+    int iterations = 20;               // quickstep iterations per step
+    double friction = 0.8;             // Coulomb μ of every contact
+    double restitution = 0.1;          // 0 .. 1
+    double bounce_velocity = 0.2;      // m/s: slower impacts do not bounce
+    double erp = 0.2;                  // error reduction per step (0 .. 1)
+    double cfm = 1e-5;                 // constraint force mixing (>= 0)
+    bool ground = true;                // a static plane y = ground_height
+    double ground_height = 0.0;        // m
+    std::uint64_t seed = 1;            // for quickstep's constraint order
+};
+
+// Throws InputError naming the field ("rigid.iterations must be ...").
+void validate(const RigidSettings& settings);
+void validate(const BodyDef& body);
+
+struct BodyState {
+    Vec3 position = Vec3::Zero();  // m, centre of mass
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+    Vec3 velocity = Vec3::Zero();          // m/s
+    Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
+};
+
+class RigidWorld {
+public:
+    explicit RigidWorld(const RigidSettings& settings = {});
+    ~RigidWorld();
+    RigidWorld(const RigidWorld&) = delete;
+    RigidWorld& operator=(const RigidWorld&) = delete;
+
+    BodyId add_body(const BodyDef& body);  // validates (InputError)
+    void remove_body(BodyId id);           // InputError for a stale id
+    bool alive(BodyId id) const;
+    std::size_t body_count() const;
+
+    void step(double dt);  // dt > 0 (InputError); collisions, then the solver
+    std::uint64_t steps() const;
+    std::size_t contacts() const;  // contact joints made in the last step
+
+    BodyState state(BodyId id) const;          // InputError for a stale id
+    double mass(BodyId id) const;              // kg
+    Eigen::Matrix3d inertia(BodyId id) const;  // kg·m², body frame, about the centre of mass
+    double kinetic_energy() const;             // J, ½ m v² + ½ ωᵀ I ω over all bodies
+    double potential_energy() const;           // J, -m g·x over all bodies
+    // FNV-1a over every live body's position, orientation and velocities.
+    std::uint64_t hash() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sim
