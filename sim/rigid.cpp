@@ -93,6 +93,14 @@ struct RigidWorld::Impl {
     };
     std::vector<Slot> slots;
     std::vector<std::uint32_t> free_slots;
+    struct JointSlot {
+        dJointID joint = nullptr;
+        JointDef def;
+        std::uint32_t generation = 0;
+    };
+    std::vector<JointSlot> joints;
+    std::vector<std::uint32_t> free_joints;
+    double stops_h = 0.0;  // the step the stop ERP/CFM were computed for
     std::uint64_t steps = 0;
     std::size_t contacts = 0;
 
@@ -103,6 +111,47 @@ struct RigidWorld::Impl {
                              std::to_string(id.generation) + "): removed, or of another world");
         }
         return slots[id.index];
+    }
+
+    const JointSlot& joint(JointId id) const {
+        if (id.index >= joints.size() || joints[id.index].joint == nullptr ||
+            joints[id.index].generation != id.generation) {
+            throw InputError("no such joint (index " + std::to_string(id.index) + ", generation " +
+                             std::to_string(id.generation) + ")");
+        }
+        return joints[id.index];
+    }
+
+    // Sets a joint parameter on the joint's first axis, whatever its type.
+    static void set_param(dJointID j, JointType type, int param, double value) {
+        switch (type) {
+            case JointType::hinge:
+                dJointSetHingeParam(j, param, value);
+                break;
+            case JointType::slider:
+                dJointSetSliderParam(j, param, value);
+                break;
+            case JointType::universal:
+                dJointSetUniversalParam(j, param, value);
+                break;
+            case JointType::ball:
+                dJointSetBallParam(j, param, value);
+                break;
+            case JointType::fixed:
+                break;
+        }
+    }
+
+    // Stop ERP/CFM from stiffness and damping at step h.
+    void update_stops(double h) {
+        if (h == stops_h) return;
+        stops_h = h;
+        for (const JointSlot& js : joints) {
+            if (js.joint == nullptr || js.def.stop_stiffness <= 0.0) continue;
+            const ErpCfm e = erp_cfm(h, js.def.stop_stiffness, js.def.stop_damping);
+            set_param(js.joint, js.def.type, dParamStopERP, e.erp);
+            set_param(js.joint, js.def.type, dParamStopCFM, e.cfm);
+        }
     }
 
     // ODE's broad phase calls this for each pair of geoms whose boxes overlap.
@@ -143,6 +192,9 @@ RigidWorld::RigidWorld(const RigidSettings& settings) : impl_(std::make_unique<I
 
 RigidWorld::~RigidWorld() {
     Impl& m = *impl_;
+    for (const auto& js : m.joints) {
+        if (js.joint != nullptr) dJointDestroy(js.joint);
+    }
     dJointGroupDestroy(m.contact_group);
     dSpaceDestroy(m.space);  // destroys its geoms (the space owns them by default)
     dWorldDestroy(m.world);  // and the bodies
@@ -223,6 +275,7 @@ void RigidWorld::step(double dt) {
     Impl& m = *impl_;
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));
+    m.update_stops(dt);
     m.contacts = 0;
     dSpaceCollide(m.space, &m, &Impl::near_callback);
     if (m.settings.quickstep) {
@@ -232,6 +285,123 @@ void RigidWorld::step(double dt) {
     }
     dJointGroupEmpty(m.contact_group);
     ++m.steps;
+}
+
+ErpCfm erp_cfm(double h, double kp, double kd) {
+    const double denominator = h * kp + kd;
+    return {h * kp / denominator, 1.0 / denominator};
+}
+
+JointId RigidWorld::add_joint(const JointDef& def) {
+    Impl& m = *impl_;
+    const dBodyID a = m.slot(def.a).body;
+    const dBodyID b = def.b == BodyId{} ? nullptr : m.slot(def.b).body;
+    if (!def.anchor.allFinite()) throw InputError("joint.anchor must be finite, in m");
+    for (const Vec3* axis : {&def.axis, &def.axis2}) {
+        if (!axis->allFinite() || std::abs(axis->norm() - 1.0) > 1e-6)
+            throw InputError("joint.axis must be a unit vector");
+    }
+    if (def.type == JointType::universal && std::abs(def.axis.dot(def.axis2)) > 1e-6) {
+        throw InputError("joint.axis2 must be perpendicular to joint.axis for a universal joint");
+    }
+    require_nonnegative(def.stop_stiffness, "joint.stop_stiffness", "N·m/rad");
+    require_nonnegative(def.stop_damping, "joint.stop_damping", "N·m·s/rad");
+    require_nonnegative(def.motor_max_force, "joint.motor_max_force", "N·m");
+    dJointID j = nullptr;
+    switch (def.type) {
+        case JointType::ball:
+            j = dJointCreateBall(m.world, nullptr);
+            dJointAttach(j, a, b);
+            dJointSetBallAnchor(j, def.anchor.x(), def.anchor.y(), def.anchor.z());
+            break;
+        case JointType::hinge:
+            j = dJointCreateHinge(m.world, nullptr);
+            dJointAttach(j, a, b);
+            dJointSetHingeAnchor(j, def.anchor.x(), def.anchor.y(), def.anchor.z());
+            dJointSetHingeAxis(j, def.axis.x(), def.axis.y(), def.axis.z());
+            break;
+        case JointType::universal:
+            j = dJointCreateUniversal(m.world, nullptr);
+            dJointAttach(j, a, b);
+            dJointSetUniversalAnchor(j, def.anchor.x(), def.anchor.y(), def.anchor.z());
+            dJointSetUniversalAxis1(j, def.axis.x(), def.axis.y(), def.axis.z());
+            dJointSetUniversalAxis2(j, def.axis2.x(), def.axis2.y(), def.axis2.z());
+            break;
+        case JointType::slider:
+            j = dJointCreateSlider(m.world, nullptr);
+            dJointAttach(j, a, b);
+            dJointSetSliderAxis(j, def.axis.x(), def.axis.y(), def.axis.z());
+            break;
+        case JointType::fixed:
+            j = dJointCreateFixed(m.world, nullptr);
+            dJointAttach(j, a, b);
+            dJointSetFixed(j);
+            break;
+    }
+    if (def.lo <= def.hi && def.type != JointType::ball && def.type != JointType::fixed) {
+        Impl::set_param(j, def.type, dParamLoStop, def.lo);
+        Impl::set_param(j, def.type, dParamHiStop, def.hi);
+    }
+    if (def.motor_max_force > 0.0) {
+        Impl::set_param(j, def.type, dParamVel, def.motor_velocity);
+        Impl::set_param(j, def.type, dParamFMax, def.motor_max_force);
+    }
+    std::uint32_t index;
+    if (!m.free_joints.empty()) {
+        index = m.free_joints.back();
+        m.free_joints.pop_back();
+    } else {
+        index = static_cast<std::uint32_t>(m.joints.size());
+        m.joints.emplace_back();
+    }
+    m.joints[index].joint = j;
+    m.joints[index].def = def;
+    m.stops_h = 0.0;  // recompute stop ERP/CFM at the next step
+    return {index, m.joints[index].generation};
+}
+
+void RigidWorld::remove_joint(JointId id) {
+    Impl& m = *impl_;
+    dJointDestroy(m.joint(id).joint);
+    m.joints[id.index].joint = nullptr;
+    ++m.joints[id.index].generation;
+    m.free_joints.push_back(id.index);
+}
+
+double RigidWorld::joint_separation(JointId id) const {
+    const auto& js = impl_->joint(id);
+    dVector3 p1, p2;
+    switch (js.def.type) {
+        case JointType::ball:
+            dJointGetBallAnchor(js.joint, p1);
+            dJointGetBallAnchor2(js.joint, p2);
+            break;
+        case JointType::hinge:
+            dJointGetHingeAnchor(js.joint, p1);
+            dJointGetHingeAnchor2(js.joint, p2);
+            break;
+        case JointType::universal:
+            dJointGetUniversalAnchor(js.joint, p1);
+            dJointGetUniversalAnchor2(js.joint, p2);
+            break;
+        default:
+            return 0.0;
+    }
+    return (to_vec(p1) - to_vec(p2)).norm();
+}
+
+double RigidWorld::joint_position(JointId id) const {
+    const auto& js = impl_->joint(id);
+    switch (js.def.type) {
+        case JointType::hinge:
+            return dJointGetHingeAngle(js.joint);
+        case JointType::slider:
+            return dJointGetSliderPosition(js.joint);
+        case JointType::universal:
+            return dJointGetUniversalAngle1(js.joint);
+        default:
+            return 0.0;
+    }
 }
 
 std::uint64_t RigidWorld::steps() const { return impl_->steps; }

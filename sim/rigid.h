@@ -71,6 +71,44 @@ struct RigidSettings {
 void validate(const RigidSettings& settings);
 void validate(const BodyDef& body);
 
+// Joints between two bodies (or a body and the world: b invalid).
+struct JointId {
+    std::uint32_t index = ~0u;
+    std::uint32_t generation = 0;
+    bool operator==(const JointId&) const = default;
+};
+
+enum class JointType { ball, hinge, universal, slider, fixed };
+
+struct JointDef {
+    JointType type = JointType::ball;
+    BodyId a;                    // first body
+    BodyId b;                    // second body; default (invalid): the static world
+    Vec3 anchor = Vec3::Zero();  // m, world frame, at creation (ball, hinge, universal)
+    Vec3 axis = Vec3::UnitZ();   // unit, world frame: hinge axis, slider direction, universal axis 1
+    Vec3 axis2 = Vec3::UnitX();  // unit, universal axis 2 (perpendicular to axis)
+    // Limits on the (first) axis: rad for hinge and universal, m for slider;
+    // lo > hi means no limit. Stops are springs of stop_stiffness and
+    // stop_damping, turned into ODE's ERP and CFM for each step's h
+    // (see erp_cfm), so scenes speak in N·m/rad and N·m·s/rad.
+    double lo = 1.0, hi = -1.0;
+    double stop_stiffness = 0.0;  // 0: ODE's rigid stops (world ERP, no CFM)
+    double stop_damping = 0.0;
+    // A velocity motor on the (first) axis: rad/s or m/s, up to max_force
+    // (N·m or N); max_force 0 is no motor. A motor with velocity 0 is joint friction.
+    double motor_velocity = 0.0;
+    double motor_max_force = 0.0;
+};
+
+// ERP and CFM of a constraint that behaves like a spring kp and damper kd at
+// step h (ODE manual, "Using ERP and CFM as a spring"):
+//   ERP = h kp / (h kp + kd),   CFM = 1 / (h kp + kd).
+struct ErpCfm {
+    double erp = 0.0;
+    double cfm = 0.0;
+};
+ErpCfm erp_cfm(double h, double kp, double kd);
+
 struct BodyState {
     Vec3 position = Vec3::Zero();  // m, centre of mass
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
@@ -93,6 +131,14 @@ public:
     void step(double dt);  // dt > 0 (InputError); collisions, then the solver
     std::uint64_t steps() const;
     std::size_t contacts() const;  // contact joints made in the last step
+
+    JointId add_joint(const JointDef& joint);  // validates (InputError): live bodies, unit axes
+    void remove_joint(JointId id);
+    // How far apart the joint's anchor is on its two bodies, m (ball, hinge,
+    // universal; 0 for others): 0 when the joint is exactly satisfied.
+    double joint_separation(JointId id) const;
+    // Hinge or universal angle (rad) or slider position (m) relative to creation.
+    double joint_position(JointId id) const;
 
     BodyState state(BodyId id) const;          // InputError for a stale id
     double mass(BodyId id) const;              // kg

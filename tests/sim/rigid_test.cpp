@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -108,6 +110,90 @@ TEST(Rigid, TwoWorldsSteppedInTurnGiveTheBitsOfEachAlone) {
     }
     EXPECT_EQ(a.hash(), alone.hash());
     EXPECT_EQ(b.hash(), alone.hash());
+}
+
+TEST(RigidJoints, ErpAndCfmFromASpringAndADamper) {
+    const ErpCfm e = erp_cfm(0.01, 1000.0, 10.0);  // h kp = 10 N·s/m... = kd
+    EXPECT_DOUBLE_EQ(e.erp, 0.5);
+    EXPECT_DOUBLE_EQ(e.cfm, 0.05);
+}
+
+// A 1 m rod (0.04 m square section, 1 kg) hanging from a hinge at its top end.
+struct HingedRod {
+    RigidWorld world{{.ground = false}};
+    BodyId rod;
+    JointId hinge;
+    static constexpr double kLength = 1.0, kWidth = 0.04, kMass = 1.0;
+
+    explicit HingedRod(double theta0, JointDef joint = {}) {
+        BodyDef def;
+        def.size = Vec3(kWidth, kLength, kWidth);
+        def.mass = kMass;
+        const Eigen::Quaterniond q(Eigen::AngleAxisd(theta0, Vec3::UnitZ()));
+        def.orientation = q;
+        def.position = Vec3(0, 2, 0) + q * Vec3(0, -kLength / 2, 0);  // the top end at the pivot (0, 2, 0)
+        rod = world.add_body(def);
+        joint.type = JointType::hinge;
+        joint.a = rod;
+        joint.anchor = Vec3(0, 2, 0);
+        joint.axis = Vec3::UnitZ();
+        hinge = world.add_joint(joint);
+    }
+};
+
+TEST(RigidJoints, AHingedRodSwingsWithThePhysicalPendulumsPeriod) {
+    // Small angles: T = 2π sqrt(I_pivot / (m g d)), I_pivot = m (L² + w²) / 12 + m (L / 2)², d = L / 2.
+    HingedRod r(3.0 * std::numbers::pi / 180.0);
+    const double L = HingedRod::kLength, w = HingedRod::kWidth, m = HingedRod::kMass;
+    const double pivot_inertia = m * (L * L + w * w) / 12.0 + m * L * L / 4.0;
+    const double period = 2 * std::numbers::pi * std::sqrt(pivot_inertia / (m * 9.81 * L / 2));
+    const double h = 1.0 / 480.0;
+    double previous = r.world.joint_position(r.hinge), worst_separation = 0.0;
+    std::vector<double> crossings;  // times the angle crosses 0 going down
+    for (int i = 1; i <= 2400; ++i) {
+        r.world.step(h);
+        const double angle = r.world.joint_position(r.hinge);
+        if (previous > 0.0 && angle <= 0.0) crossings.push_back((i - 1 + previous / (previous - angle)) * h);
+        previous = angle;
+        worst_separation = std::max(worst_separation, r.world.joint_separation(r.hinge));
+    }
+    ASSERT_GE(crossings.size(), 3u);
+    const double measured = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+    std::printf("[ measured ] hinged rod period %.5f s (closed form %.5f s), worst joint separation %.2e m\n", measured,
+                period, worst_separation);
+    EXPECT_NEAR(measured, period, 0.005 * period) << "s, 0.5%";
+    EXPECT_LT(worst_separation, 1e-3) << "m";
+}
+
+TEST(RigidJoints, HingeLimitsHoldTheSwing) {
+    JointDef limited;
+    limited.lo = -std::numbers::pi / 6;  // ±30°
+    limited.hi = std::numbers::pi / 6;
+    HingedRod r(-std::numbers::pi / 6, limited);  // released at one stop: it swings to the other
+    double widest = 0.0;
+    for (int i = 0; i < 600; ++i) {
+        r.world.step(1.0 / 120.0);
+        widest = std::max(widest, std::abs(r.world.joint_position(r.hinge)));
+    }
+    EXPECT_LT(widest, std::numbers::pi / 6 + 2.0 * std::numbers::pi / 180) << "rad: within 2 degrees of the stop";
+}
+
+TEST(RigidJoints, AMotorTurnsAtItsVelocity) {
+    RigidWorld world({.gravity = Vec3::Zero(), .ground = false});
+    BodyDef wheel;
+    wheel.shape = RigidShape::cylinder;
+    wheel.size = Vec3(0.3, 0.1, 0);
+    const BodyId id = world.add_body(wheel);
+    JointDef motor;
+    motor.type = JointType::hinge;
+    motor.a = id;
+    motor.axis = Vec3::UnitZ();
+    motor.motor_velocity = 2.0;  // rad/s
+    motor.motor_max_force = 100.0;
+    const JointId j = world.add_joint(motor);
+    for (int i = 0; i < 60; ++i) world.step(1.0 / 60.0);
+    EXPECT_NEAR(world.joint_position(j), 2.0, 0.05) << "rad after 1 s";
+    EXPECT_NEAR(world.state(id).angular_velocity.z(), 2.0, 1e-6) << "rad/s";
 }
 
 TEST(Rigid, BadInputIsRefused) {
