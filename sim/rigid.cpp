@@ -190,6 +190,26 @@ RigidWorld::RigidWorld(const RigidSettings& settings) : impl_(std::make_unique<I
     if (settings.ground) m.ground = dCreatePlane(m.space, 0, 1, 0, settings.ground_height);
 }
 
+RigidWorld::RigidWorld(const RigidModel& model) : RigidWorld(model.settings) {
+    std::vector<BodyId> ids;
+    for (const BodyDef& body : model.bodies) ids.push_back(add_body(body));
+    for (std::size_t k = 0; k < model.joints.size(); ++k) {
+        const RigidJoint& rj = model.joints[k];
+        auto ref = [&](int i, const char* which) {
+            if (i < -1 || i >= static_cast<int>(ids.size())) {
+                throw InputError("joints[" + std::to_string(k) + "]." + which + " is body " + std::to_string(i) +
+                                 ", but there are " + std::to_string(ids.size()));
+            }
+            return i < 0 ? BodyId{} : ids[static_cast<std::size_t>(i)];
+        };
+        JointDef def = rj.joint;
+        def.a = ref(rj.a, "a");
+        def.b = ref(rj.b, "b");
+        if (def.a == BodyId{}) throw InputError("joints[" + std::to_string(k) + "].a must be a body");
+        add_joint(def);
+    }
+}
+
 RigidWorld::~RigidWorld() {
     Impl& m = *impl_;
     for (const auto& js : m.joints) {
@@ -475,6 +495,39 @@ std::uint64_t RigidWorld::hash() const {
         for (int k = 0; k < 4; ++k) mix(q[k]);
     }
     return h;
+}
+
+std::vector<BodyId> RigidWorld::bodies() const {
+    std::vector<BodyId> ids;
+    for (std::uint32_t i = 0; i < impl_->slots.size(); ++i) {
+        if (impl_->slots[i].body != nullptr) ids.push_back({i, impl_->slots[i].generation});
+    }
+    return ids;
+}
+
+std::vector<BodyState> RigidWorld::body_states() const {
+    std::vector<BodyState> out;
+    for (const BodyId id : bodies()) out.push_back(state(id));
+    return out;
+}
+
+void RigidWorld::set_body_states(const std::vector<BodyState>& states, std::uint64_t steps) {
+    const std::vector<BodyId> ids = bodies();
+    if (states.size() != ids.size()) {
+        throw InputError("snapshot has " + std::to_string(states.size()) + " rigid bodies, the world has " +
+                         std::to_string(ids.size()));
+    }
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+        const dBodyID b = impl_->slot(ids[k]).body;
+        const BodyState& s = states[k];
+        dBodySetPosition(b, s.position.x(), s.position.y(), s.position.z());
+        const dQuaternion q = {s.orientation.w(), s.orientation.x(), s.orientation.y(), s.orientation.z()};
+        dBodySetQuaternion(b, q);
+        dBodySetLinearVel(b, s.velocity.x(), s.velocity.y(), s.velocity.z());
+        dBodySetAngularVel(b, s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z());
+        dBodyEnable(b);
+    }
+    impl_->steps = steps;
 }
 
 }  // namespace sim

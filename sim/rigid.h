@@ -116,9 +116,25 @@ struct BodyState {
     Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
 };
 
+// What a scene's rigid part is: settings, bodies, and joints naming bodies
+// by their index in `bodies` (-1: the static world).
+struct RigidJoint {
+    JointDef joint;  // its a and b are ignored: the indices below name the bodies
+    int a = 0;
+    int b = -1;
+};
+struct RigidModel {
+    RigidSettings settings;
+    std::vector<BodyDef> bodies;
+    std::vector<RigidJoint> joints;
+    bool empty() const { return bodies.empty(); }
+};
+
 class RigidWorld {
 public:
     explicit RigidWorld(const RigidSettings& settings = {});
+    // Every body and joint of the model, in order: body k gets id {k, 0}.
+    explicit RigidWorld(const RigidModel& model);
     ~RigidWorld();
     RigidWorld(const RigidWorld&) = delete;
     RigidWorld& operator=(const RigidWorld&) = delete;
@@ -147,6 +163,12 @@ public:
     double potential_energy() const;           // J, -m g·x over all bodies
     // FNV-1a over every live body's position, orientation and velocities.
     std::uint64_t hash() const;
+
+    // Every body's state (index order; removed bodies skipped) and the step
+    // count: what a snapshot of a world needs, and what restores it.
+    std::vector<BodyState> body_states() const;
+    void set_body_states(const std::vector<BodyState>& states, std::uint64_t steps);
+    std::vector<BodyId> bodies() const;  // live ids, index order
 
 private:
     struct Impl;

@@ -88,19 +88,46 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
     return {};
 }
 
+Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
+                     const std::vector<Vec3>& velocities, std::uint64_t frame) {
+    if (!limits.enabled) return {};
+    auto body = [](Verdict v) {
+        v.subject = "body";
+        return v;
+    };
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(positions[i][k])) return body(exploded(frame, "position", i, positions[i][k], 0.0));
+        }
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(velocities[i][k])) return body(exploded(frame, "velocity", i, velocities[i][k], 0.0));
+        }
+    }
+    for (std::size_t i = 0; i < velocities.size(); ++i) {
+        const double s = velocities[i].norm();
+        if (s > limits.max_speed) return body(exploded(frame, "speed", i, s, limits.max_speed));
+    }
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+        const double reach = positions[i].cwiseAbs().maxCoeff();
+        if (reach > limits.world_half_extent)
+            return body(exploded(frame, "bounds", i, reach, limits.world_half_extent));
+    }
+    return {};
+}
+
 std::string Verdict::message(std::string_view scene) const {
     std::string text = std::string(scene) + ": ";
     if (!exploded()) return text + "ok";
     text += "exploded at frame " + std::to_string(frame) + ": ";
     if (quantity == "position" || quantity == "velocity") {
-        return text + "particle " + std::to_string(index) + " " + quantity + " is " + short_value(value);
+        return text + subject + " " + std::to_string(index) + " " + quantity + " is " + short_value(value);
     }
     if (quantity == "speed") {
-        return text + "particle " + std::to_string(index) + " speed " + short_value(value) + " m/s > " +
+        return text + subject + " " + std::to_string(index) + " speed " + short_value(value) + " m/s > " +
                short_value(limit) + " m/s";
     }
     if (quantity == "bounds") {
-        return text + "particle " + std::to_string(index) + " is " + short_value(value) +
+        return text + subject + " " + std::to_string(index) + " is " + short_value(value) +
                " m from the origin along an axis, outside the world box (" + short_value(limit) + " m)";
     }
     return text + "energy " + short_value(value) + " J > " + short_value(limit) +

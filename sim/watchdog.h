@@ -44,12 +44,13 @@ void validate(const WatchdogLimits& limits);
 struct Verdict {
     enum class Status { ok, exploded };
     Status status = Status::ok;
-    std::uint64_t frame = 0;      // the frame step (World::step call, 1-based) in which it was detected
-    std::string quantity;         // "position" or "velocity" (non-finite), "speed", "bounds", "energy"
-    std::size_t index = 0;        // particle index (0 for energy)
-    double value = 0.0;           // the offending value in the quantity's unit (m, m/s, J); NaN for non-finite
-    double limit = 0.0;           // the limit it broke
-    double initial_energy = 0.0;  // J, E0 (energy verdicts)
+    std::uint64_t frame = 0;           // the frame step (World::step call, 1-based) in which it was detected
+    std::string quantity;              // "position" or "velocity" (non-finite), "speed", "bounds", "energy"
+    std::string subject = "particle";  // what index counts: "particle" or "body"
+    std::size_t index = 0;             // particle (or body) index; 0 for energy
+    double value = 0.0;                // the offending value in the quantity's unit (m, m/s, J); NaN for non-finite
+    double limit = 0.0;                // the limit it broke
+    double initial_energy = 0.0;       // J, E0 (energy verdicts)
 
     bool exploded() const { return status == Status::exploded; }
     // "rope: exploded at frame 37: particle 12 speed 4.1e+06 m/s > 500 m/s"
@@ -62,5 +63,10 @@ struct Verdict {
 // is only read when limits.energy_growth > 0.
 Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
               std::uint64_t frame);
+
+// The same rules (non-finite, speed, bounds) for rigid bodies' centres of
+// mass and velocities, body index order; the verdict's subject is "body".
+Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
+                     const std::vector<Vec3>& velocities, std::uint64_t frame);
 
 }  // namespace sim

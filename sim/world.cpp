@@ -48,6 +48,7 @@ World::World(ParticleModel model)
             for (const Spring& sp : springs->list) rest0_[k].push_back(sp.rest);
         }
     }
+    if (!model_.rigid.empty()) rigid_ = std::make_unique<RigidWorld>(model_.rigid);
     radius_.reserve(model_.particles.size());
     for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
     initial_energy_ = energy();
@@ -72,8 +73,18 @@ ParticleState& World::edit_state() {
 }
 
 World::Snapshot World::snapshot() const {
-    return {state_,    memory_a_, memory_x_prev_, memory_valid_,   memory_integrator_,
-            memory_h_, steps_,    frames_,        initial_energy_, verdict_};
+    Snapshot snap{state_,    memory_a_, memory_x_prev_, memory_valid_,   memory_integrator_,
+                  memory_h_, steps_,    frames_,        initial_energy_, verdict_};
+    for (std::size_t k = 0; k < live_forces_.size(); ++k) {
+        if (rest0_[k].empty()) continue;
+        for (const Spring& sp : std::get<Springs>(live_forces_[k]).list) snap.plastic_rest.push_back(sp.rest);
+    }
+    snap.contained = contained_;
+    if (rigid_) {
+        snap.bodies = rigid_->body_states();
+        snap.rigid_steps = rigid_->steps();
+    }
+    return snap;
 }
 
 void World::restore(const Snapshot& snapshot) {
@@ -92,6 +103,7 @@ void World::restore(const Snapshot& snapshot) {
     initial_energy_ = snapshot.initial_energy;
     verdict_ = snapshot.verdict;
     contained_ = snapshot.contained;
+    if (rigid_) rigid_->set_body_states(snapshot.bodies, snapshot.rigid_steps);
     std::size_t next = 0;
     for (std::size_t k = 0; k < live_forces_.size(); ++k) {
         if (rest0_[k].empty()) continue;
@@ -142,6 +154,12 @@ void World::step(const StepSettings& settings) {
             now = Clock::now();
             times_.plasticity += seconds(mark, now);
         }
+        if (rigid_) {
+            mark = now;
+            rigid_->step(h);
+            now = Clock::now();
+            times_.rigid += seconds(mark, now);
+        }
         if (watchdog_.enabled) {
             mark = now;
             watch();
@@ -155,6 +173,15 @@ void World::watch() {
         // The energy rule costs a potential-energy pass: only when asked for.
         const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
         verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+        if (!verdict_.exploded() && rigid_) {
+            std::vector<Vec3> positions, velocities;
+            for (const BodyState& b : rigid_->body_states()) {
+                positions.push_back(b.position);
+                velocities.push_back(b.velocity);
+            }
+            verdict_ = check_bodies(watchdog_, positions, velocities, frames_);
+            return;  // bodies are never contained
+        }
         if (!verdict_.exploded() || verdict_.quantity == "energy") return;
         const auto range = std::find_if(watchdog_.contain.begin(), watchdog_.contain.end(), [&](const auto& r) {
             return verdict_.index >= r.first && verdict_.index < r.first + r.count;
@@ -252,12 +279,13 @@ double World::kinetic_energy() const {
             e += 0.5 * state_.mass[i] * state_.v.get(i).squaredNorm();
         }
     }
+    if (rigid_) e += rigid_->kinetic_energy();
     return e;
 }
 
 double World::potential_energy() const {
     return forces_.potential_energy(state_.t, state_.x.span(), state_.v.span()) +
-           sim::potential_energy(model_.constraints, state_.x.span());
+           sim::potential_energy(model_.constraints, state_.x.span()) + (rigid_ ? rigid_->potential_energy() : 0.0);
 }
 
 double World::force_evaluations() const {

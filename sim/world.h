@@ -9,6 +9,7 @@
 #include "sim/forces.h"
 #include "sim/integrators.h"
 #include "sim/particles.h"
+#include "sim/rigid.h"
 #include "sim/watchdog.h"
 
 #include <cstdint>
@@ -23,6 +24,7 @@ struct ParticleModel {
     std::vector<ForceDef> forces;
     Constraints constraints;        // XPBD, solved after every integrator substep
     Collisions collisions;          // resolved after the constraints
+    RigidModel rigid;               // rigid bodies and joints (ODE); none: no ODE world is made
     std::vector<Emitter> emitters;  // cosmetic particle sources (their particles start pinned, parked)
 };
 
@@ -76,6 +78,7 @@ public:
         double constraints = 0.0;  // s, XPBD projection and its velocity update
         double collisions = 0.0;   // s
         double plasticity = 0.0;   // s, rest-length creep of plastic springs
+        double rigid = 0.0;        // s, ODE: collisions and the solver
         double watchdog = 0.0;     // s
     };
     const SystemTimes& times() const { return times_; }
@@ -85,6 +88,9 @@ public:
     // change as the body yields (the model keeps the built ones).
     const std::vector<ForceDef>& live_forces() const { return live_forces_; }
     std::size_t contacts() const { return collision_scratch_.contacts; }  // resolved in the last substep
+    // The rigid bodies, when the model has any (else nullptr): body k of the
+    // model is id {k, 0}.
+    const RigidWorld* rigid() const { return rigid_.get(); }
     const ParticleState& state() const { return state_; }
     // Direct edits of x or v (a drag with the mouse, a teleport): the next step
     // rebuilds the integrator's memory from the edited state.
@@ -107,6 +113,8 @@ public:
         Verdict verdict;
         std::vector<double> plastic_rest;  // m, rest lengths of plastic springs, in force order
         std::vector<Contained> contained;
+        std::vector<BodyState> bodies;  // rigid bodies, index order
+        std::uint64_t rigid_steps = 0;
     };
     Snapshot snapshot() const;
     // Throws InputError when the snapshot is of another model (particle count).
@@ -140,6 +148,7 @@ private:
     Vec3Array x_predicted_;       // positions after the integrator, before the constraints
     std::vector<double> lambda_;  // XPBD multipliers of the substep
     CollisionScratch collision_scratch_;
+    std::unique_ptr<RigidWorld> rigid_;
 
     // Integrator memory and scratch (see StepArrays).
     Vec3Array memory_a_;

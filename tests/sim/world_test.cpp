@@ -2,6 +2,7 @@
 // block-by-block stepping, energy.
 #include "sim/world.h"
 #include "sim/error.h"
+#include "sim/mass_spring.h"
 #include "sim/state_hash.h"
 #include "tests/sim/problems.h"
 
@@ -195,6 +196,41 @@ TEST(Rewind, RestoringBeforeAnExplosionClearsTheVerdict) {
     world.restore(start);
     EXPECT_FALSE(world.verdict().exploded());
     EXPECT_EQ(world.frames(), 0u);
+}
+
+TEST(Rewind, PlasticRestLengthsAndRigidBodiesAreRewoundToo) {
+    // A plastic lattice dented on the ground, and a rigid box falling beside it.
+    ParticleModel model;
+    LatticeDef cube;
+    cube.nx = cube.ny = cube.nz = 3;
+    cube.corner = Vec3(-0.3, 0.5, -0.3);
+    cube.size = Vec3(0.6, 0.6, 0.6);
+    cube.velocity = Vec3(0, -4, 0);
+    cube.links.stiffness = 200.0;
+    cube.plasticity = {0.02, 30.0, 0.5};
+    add_lattice(model, cube);
+    model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+    model.collisions.colliders.push_back(PlaneCollider{});
+    BodyDef box;
+    box.position = Vec3(2, 1, 0);
+    model.rigid.bodies.push_back(box);
+    World world(model), straight(model);
+    const StepSettings step{Integrator::symplectic_euler, 1.0 / 60.0, 10};
+    for (int i = 0; i < 20; ++i) {
+        world.step(step);
+        straight.step(step);
+    }
+    const World::Snapshot saved = world.snapshot();
+    EXPECT_FALSE(saved.plastic_rest.empty());
+    EXPECT_EQ(saved.bodies.size(), 1u);
+    for (int i = 0; i < 20; ++i) world.step(step);
+    world.restore(saved);
+    for (int i = 0; i < 20; ++i) {
+        world.step(step);
+        straight.step(step);
+    }
+    EXPECT_EQ(world.state().x.raw(), straight.state().x.raw());
+    EXPECT_EQ(world.rigid()->hash(), straight.rigid()->hash());
 }
 
 TEST(Rewind, RefusesASnapshotOfAnotherModel) {
