@@ -97,6 +97,14 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
             csv << run.frame() << ',' << s.t << ",particle," << i << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
                 << v.x() << ',' << v.y() << ',' << v.z() << '\n';
         }
+        if (const sim::RigidWorld* rigid = run.world().rigid()) {
+            const auto bodies = rigid->body_states();
+            for (std::size_t k = 0; k < bodies.size(); ++k) {
+                const sim::Vec3 x = bodies[k].position, v = bodies[k].velocity;
+                csv << run.frame() << ',' << s.t << ",body," << k << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+                    << v.x() << ',' << v.y() << ',' << v.z() << '\n';
+            }
+        }
     };
 
     scenes::SceneRun run(scene);
@@ -138,6 +146,7 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
                          : system == "constraints" ? ms(times.constraints)
                          : system == "collisions"  ? ms(times.collisions)
                          : system == "plasticity"  ? ms(times.plasticity)
+                         : system == "rigid"       ? ms(times.rigid)
                          : system == "watchdog"    ? ms_watchdog
                                                    : -1.0;
         if (v < 0.0) continue;  // springs: inside the particles' force evaluations

@@ -79,6 +79,8 @@ struct SceneDef {
     std::vector<BodyLook> bodies;                // ropes, cloths, soft bodies
     std::vector<std::size_t> drawn_springs;      // model.forces indices of [[forces.springs]], drawn as rods
     std::vector<render::Color> collider_colors;  // one per model.collisions.colliders entry
+    std::vector<std::string> body_names;         // one per model.rigid.bodies entry
+    std::vector<render::Color> body_colors;
     sim::StepSettings step;
     int frames = 600;              // frame steps the scene runs
     std::vector<int> checkpoints;  // frames the golden filmstrip shows, ascending, <= frames

@@ -34,6 +34,15 @@
 //                link keys, yield_strain, creep (1/s), max_strain (plastic when yield_strain > 0)
 //   [[emitters]] name, count, position (m), direction, cone (deg), speed (m/s), speed_jitter,
 //                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
+//   Rigid bodies (ODE; a scene without them makes no ODE world):
+//   [rigid]      quickstep, iterations, friction, restitution, bounce_velocity (m/s), erp, cfm,
+//                ground, ground_height (m), seed
+//   [[bodies]]   name, shape = "box"|"sphere"|"capsule"|"cylinder", size (m: box extents; radius,
+//                length), mass (kg) or density (kg/m³), position (m), rotation ([x, y, z] deg),
+//                velocity (m/s), angular_velocity (deg/s), com (m, in the shape's frame), color
+//   [[joints]]   type = "ball"|"hinge"|"universal"|"slider"|"fixed", a, b (body names; b absent:
+//                the world), anchor (m), axis, axis2, lo, hi (deg; m for sliders),
+//                stop_stiffness, stop_damping, motor_velocity (deg/s; m/s), motor_max_force
 //   [constraints] iterations (Gauss-Seidel sweeps per substep)
 //   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool;
 //                also a cloth's self-collision when its radius is under half its link length)
@@ -561,10 +570,115 @@ struct Builder {
             }
             scene.model.emitters.push_back(e);
         }
-        if (scene.model.particles.empty()) {
+        rigid(top);
+        if (scene.model.particles.empty() && scene.model.rigid.empty()) {
             r.fail(&top.table(),
                    "a scene needs at least one [[particles]], [[groups]], [[ropes]], [[cloths]], "
-                   "[[soft_bodies]] or [[emitters]] entry");
+                   "[[soft_bodies]], [[emitters]] or [[bodies]] entry");
+        }
+    }
+
+    // Rigid bodies and joints.
+    void rigid(const Section& top) {
+        sim::RigidModel& m = scene.model.rigid;
+        constexpr double kDeg = std::numbers::pi / 180.0;
+        auto rotation = [&](const Section& s) {
+            const sim::Vec3 deg = s.vec3("rotation", sim::Vec3::Zero(), "degrees", 360.0) * kDeg;
+            return Eigen::Quaterniond(Eigen::AngleAxisd(deg.z(), sim::Vec3::UnitZ()) *
+                                      Eigen::AngleAxisd(deg.y(), sim::Vec3::UnitY()) *
+                                      Eigen::AngleAxisd(deg.x(), sim::Vec3::UnitX()));
+        };
+        const auto bodies = top.tables("bodies", 10'000);
+        std::map<std::string, int, std::less<>> names;
+        for (std::size_t k = 0; k < bodies.size(); ++k) {
+            const Section s(r, *bodies[k], "bodies[" + std::to_string(k) + "]");
+            s.only({"name", "shape", "size", "mass", "density", "position", "rotation", "velocity", "angular_velocity",
+                    "com", "color"});
+            sim::BodyDef b;
+            const std::string shape = s.word("shape", "box", {"box", "sphere", "capsule", "cylinder"});
+            b.shape = shape == "sphere"     ? sim::RigidShape::sphere
+                      : shape == "capsule"  ? sim::RigidShape::capsule
+                      : shape == "cylinder" ? sim::RigidShape::cylinder
+                                            : sim::RigidShape::box;
+            b.size = s.vec3("size", b.size, "m");
+            const int used = b.shape == sim::RigidShape::box ? 3 : b.shape == sim::RigidShape::sphere ? 1 : 2;
+            for (int a = 0; a < used; ++a) {
+                if (!(b.size[a] > 0)) s.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
+            }
+            if (s.node("mass") != nullptr && s.node("density") != nullptr)
+                s.fail("density", "and mass cannot both be given");
+            b.mass = s.node("density") != nullptr ? 0.0 : s.positive("mass", 1.0, kHuge, "kg");
+            b.density = s.positive("density", b.density, kHuge, "kg/m³");
+            b.position = s.vec3("position", b.position, "m");
+            b.orientation = rotation(s);
+            b.velocity = s.vec3("velocity", b.velocity, "m/s");
+            b.angular_velocity = s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s") * kDeg;
+            b.com = s.vec3("com", b.com, "m");
+            const std::string name = s.string("name", "body" + std::to_string(k), 64);
+            if (!names.emplace(name, static_cast<int>(k)).second)
+                s.fail("name", "must be unique: " + quote(name) + " is taken");
+            m.bodies.push_back(b);
+            scene.body_names.push_back(name);
+            scene.body_colors.push_back(s.color("color", palette(k + 2)));
+        }
+        const auto joints = top.tables("joints", 10'000);
+        for (std::size_t k = 0; k < joints.size(); ++k) {
+            const Section s(r, *joints[k], "joints[" + std::to_string(k) + "]");
+            s.only({"type", "a", "b", "anchor", "axis", "axis2", "lo", "hi", "stop_stiffness", "stop_damping",
+                    "motor_velocity", "motor_max_force"});
+            sim::RigidJoint j;
+            const std::string type = s.word("type", "ball", {"ball", "hinge", "universal", "slider", "fixed"});
+            j.joint.type = type == "hinge"       ? sim::JointType::hinge
+                           : type == "universal" ? sim::JointType::universal
+                           : type == "slider"    ? sim::JointType::slider
+                           : type == "fixed"     ? sim::JointType::fixed
+                                                 : sim::JointType::ball;
+            auto body = [&](std::string_view key) {
+                const std::string name = s.string(key, "");
+                const auto it = names.find(name);
+                if (it == names.end()) s.fail(key, "names no body (got " + quote(name) + ")");
+                return it->second;
+            };
+            if (s.node("a") == nullptr) s.fail("a", "is required: a body name");
+            j.a = body("a");
+            j.b = s.node("b") != nullptr ? body("b") : -1;
+            if (j.a == j.b) s.fail("b", "must be another body than a");
+            j.joint.anchor = s.vec3("anchor", j.joint.anchor, "m");
+            auto unit = [&](std::string_view key, const sim::Vec3& fallback) {
+                const sim::Vec3 v = s.vec3(key, fallback, "(a direction)");
+                if (v.norm() < 1e-9) s.fail(key, "must be a non-zero direction");
+                return sim::Vec3(v.normalized());
+            };
+            j.joint.axis = unit("axis", j.joint.axis);
+            j.joint.axis2 = unit("axis2", j.joint.axis2);
+            const bool angular = j.joint.type != sim::JointType::slider;
+            const double scale = angular ? kDeg : 1.0;
+            if (s.node("lo") != nullptr || s.node("hi") != nullptr) {
+                j.joint.lo = s.number("lo", -1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
+                j.joint.hi = s.number("hi", 1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
+                if (j.joint.lo > j.joint.hi) s.fail("hi", "must be >= lo");
+            }
+            j.joint.stop_stiffness = s.number("stop_stiffness", 0.0, 0.0, kHuge, angular ? "N·m/rad" : "N/m");
+            j.joint.stop_damping = s.number("stop_damping", 0.0, 0.0, kHuge, angular ? "N·m·s/rad" : "N·s/m");
+            j.joint.motor_velocity = s.number("motor_velocity", 0.0, -1e6, 1e6, angular ? "deg/s" : "m/s") * scale;
+            j.joint.motor_max_force = s.number("motor_max_force", 0.0, 0.0, kHuge, angular ? "N·m" : "N");
+            m.joints.push_back(j);
+        }
+        if (const toml::table* t = top.subtable("rigid")) {
+            const Section s(r, *t, "rigid");
+            s.only({"quickstep", "iterations", "friction", "restitution", "bounce_velocity", "erp", "cfm", "ground",
+                    "ground_height", "seed"});
+            sim::RigidSettings& rs = m.settings;
+            rs.quickstep = s.boolean("quickstep", rs.quickstep);
+            rs.iterations = static_cast<int>(s.integer("iterations", rs.iterations, 1, 10'000));
+            rs.friction = s.number("friction", rs.friction, 0.0, 1e6, "(Coulomb μ)");
+            rs.restitution = s.number("restitution", rs.restitution, 0.0, 1.0, "(0 .. 1)");
+            rs.bounce_velocity = s.number("bounce_velocity", rs.bounce_velocity, 0.0, kHuge, "m/s");
+            rs.erp = s.number("erp", rs.erp, 0.0, 1.0, "(0 .. 1)");
+            rs.cfm = s.number("cfm", rs.cfm, 0.0, kHuge, "(ODE's CFM)");
+            rs.ground = s.boolean("ground", rs.ground);
+            rs.ground_height = s.number("ground_height", rs.ground_height, -1e5, 1e5, "m");
+            rs.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
         }
     }
 
@@ -1074,8 +1188,9 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     scene.name = name;
     const Section top(reader, root, "");
     if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
-    top.only({"description", "frames", "checkpoints", "step", "particles", "groups", "ropes", "cloths", "soft_bodies",
-              "emitters", "forces", "constraints", "collisions", "colliders", "watchdog", "camera", "view", "ghosts"});
+    top.only({"description", "frames",      "checkpoints", "step",     "particles", "groups", "ropes",
+              "cloths",      "soft_bodies", "emitters",    "bodies",   "joints",    "rigid",  "forces",
+              "constraints", "collisions",  "colliders",   "watchdog", "camera",    "view",   "ghosts"});
     if (top.node("description") == nullptr)
         reader.fail(&root, "description is required: one sentence saying what the scene shows");
     scene.description = top.string("description", "", 300);
@@ -1120,7 +1235,8 @@ SceneDef parse_with(std::string_view text, const std::string& display, const std
 }  // namespace
 
 std::vector<std::string> SceneDef::systems() const {
-    std::vector<std::string> out = {"particles"};
+    std::vector<std::string> out;
+    if (!model.particles.empty()) out.push_back("particles");
     bool springs = false, plastic = false;
     for (const sim::ForceDef& f : model.forces) {
         if (const auto* s = std::get_if<sim::Springs>(&f)) {
@@ -1133,6 +1249,7 @@ std::vector<std::string> SceneDef::systems() const {
     if (!model.collisions.empty()) out.push_back("collisions");
     if (plastic) out.push_back("plasticity");
     if (!model.emitters.empty()) out.push_back("emitters");
+    if (!model.rigid.empty()) out.push_back("rigid");
     if (watchdog.enabled) out.push_back("watchdog");
     return out;
 }

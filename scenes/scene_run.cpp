@@ -72,7 +72,11 @@ void SceneRun::record() {
     }
 }
 
-std::uint64_t SceneRun::state_hash() const { return sim::state_hash(world_.state()); }
+std::uint64_t SceneRun::state_hash() const {
+    const std::uint64_t particles = sim::state_hash(world_.state());
+    // Rigid bodies folded in (FNV-style) so that either part changing changes the hash.
+    return world_.rigid() != nullptr ? (particles ^ world_.rigid()->hash()) * 0x100000001b3ull : particles;
+}
 
 std::string SceneRun::state_hash_hex() const {
     char text[32];
@@ -117,6 +121,38 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
             render::Plane{render::Vec3(0.0f, static_cast<float>(scene_.view.water_height), 0.0f), render::Vec3::UnitY(),
                           render::Vec2(16.0f, 16.0f),
                           render::Look{render::Color{0.05f, 0.3f, 0.7f, 1.0f}, true}});  // translucent: a ghost
+    }
+
+    // Rigid bodies, each at its centre of mass with its shape shifted by -com.
+    if (const sim::RigidWorld* rigid = world_.rigid()) {
+        const std::vector<sim::BodyState> states = rigid->body_states();
+        for (std::size_t k = 0; k < states.size(); ++k) {
+            const sim::BodyDef& def = scene_.model.rigid.bodies[k];
+            const Eigen::Quaterniond q = states[k].orientation;
+            const sim::Vec3 center = states[k].position - q * def.com;
+            const render::Look look{scene_.body_colors[k]};
+            switch (def.shape) {
+                case sim::RigidShape::box:
+                    list.boxes.push_back(
+                        render::Box{to_render(center), to_render(0.5 * def.size), q.cast<float>(), look});
+                    break;
+                case sim::RigidShape::sphere:
+                    list.spheres.push_back(render::Sphere{to_render(center), static_cast<float>(def.size.x()), look});
+                    break;
+                case sim::RigidShape::capsule:
+                case sim::RigidShape::cylinder: {
+                    const sim::Vec3 half = q * sim::Vec3(0, 0, 0.5 * def.size.y());
+                    if (def.shape == sim::RigidShape::capsule) {
+                        list.capsules.push_back(render::Capsule{to_render(center - half), to_render(center + half),
+                                                                static_cast<float>(def.size.x()), look});
+                    } else {
+                        list.cylinders.push_back(render::Cylinder{to_render(center - half), to_render(center + half),
+                                                                  static_cast<float>(def.size.x()), look});
+                    }
+                    break;
+                }
+            }
+        }
     }
 
     // Bodies: ropes as rods through their nodes, cloth and soft bodies as meshes.

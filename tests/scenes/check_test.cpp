@@ -93,7 +93,7 @@ TEST_F(CheckTest, OnePixelOfMotionFailsTheSameStatePasses) {
 }
 
 TEST_F(CheckTest, SameSceneTwiceInOneProcessGivesTheSameHashesAndBytes) {
-    for (const std::string name : {"orbit", "pendulum"}) {
+    for (const std::string name : {"orbit", "pendulum", "stack"}) {
         const SceneDef scene = load_scene(resolve_scene(name));
         const Filmstrip a = render_filmstrip(scene, *renderer_);
         const Filmstrip b = render_filmstrip(scene, *renderer_);
