@@ -120,51 +120,33 @@ void World::step(const StepSettings& settings) {
     const bool constrained = !model_.constraints.empty();
     const bool colliding = !model_.collisions.empty();
     const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
-    auto seconds = [](Clock::time_point a, Clock::time_point b) {
-        return std::chrono::duration<double>(b - a).count();
+    // Runs one stage and adds its wall time to `total` (the per-system times).
+    auto timed = [](double& total, auto&& stage) {
+        const auto start = Clock::now();
+        stage();
+        total += std::chrono::duration<double>(Clock::now() - start).count();
     };
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
-        auto mark = Clock::now();
-        for (const Emitter& emitter : model_.emitters) {
-            if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
-        }
-        // Continuous collision detection sweeps from here; a contained explosion freezes here.
-        if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
-        step_once(settings.integrator, h);  // forces and integration
-        auto now = Clock::now();
-        times_.particles += seconds(mark, now);
-        if (constrained) {
-            mark = now;
-            solve_constraints(h);
-            now = Clock::now();
-            times_.constraints += seconds(mark, now);
-        }
-        if (colliding) {
-            mark = now;
-            if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
-                        state_.inv_mass.data(), h, collision_scratch_) > 0) {
-                memory_valid_ = false;  // positions and velocities were edited
+        timed(times_.particles, [&] {
+            for (const Emitter& emitter : model_.emitters) {
+                if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
             }
-            now = Clock::now();
-            times_.collisions += seconds(mark, now);
+            // Continuous collision detection sweeps from here; a contained explosion freezes here.
+            if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
+            step_once(settings.integrator, h);  // forces and integration
+        });
+        if (constrained) timed(times_.constraints, [&] { solve_constraints(h); });
+        if (colliding) {
+            timed(times_.collisions, [&] {
+                if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
+                            state_.inv_mass.data(), h, collision_scratch_) > 0) {
+                    memory_valid_ = false;  // positions and velocities were edited
+                }
+            });
         }
-        if (plastic) {
-            mark = now;
-            plasticity(h);
-            now = Clock::now();
-            times_.plasticity += seconds(mark, now);
-        }
-        if (rigid_) {
-            mark = now;
-            rigid_->step(h);
-            now = Clock::now();
-            times_.rigid += seconds(mark, now);
-        }
-        if (watchdog_.enabled) {
-            mark = now;
-            watch();
-            times_.watchdog += seconds(mark, Clock::now());
-        }
+        if (plastic) timed(times_.plasticity, [&] { plasticity(h); });
+        if (rigid_) timed(times_.rigid, [&] { rigid_->step(h); });
+        if (watchdog_.enabled) timed(times_.watchdog, [&] { watch(); });
     }
 }
 
