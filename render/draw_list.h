@@ -62,8 +62,8 @@ struct Cylinder {
 };
 
 struct Box {
-    Vec3 center = Vec3::Zero();                            // m
-    Vec3 half_extents = Vec3::Constant(0.5f);              // m, along the box's own axes
+    Vec3 center = Vec3::Zero();                                    // m
+    Vec3 half_extents = Vec3::Constant(0.5f);                      // m, along the box's own axes
     Eigen::Quaternionf rotation = Eigen::Quaternionf::Identity();  // box axes to world
     Look look;
 };
@@ -79,20 +79,20 @@ struct Cone {
 // Radii of 0 mean "choose from the length" (shaft 3%, head 8% of the length,
 // head at most 30% of it).
 struct Arrow {
-    Vec3 origin = Vec3::Zero();  // m
-    Vec3 vector = Vec3::UnitY(); // m (a velocity or force already scaled to metres)
-    float shaft_radius = 0.0f;   // m
-    float head_radius = 0.0f;    // m
+    Vec3 origin = Vec3::Zero();   // m
+    Vec3 vector = Vec3::UnitY();  // m (a velocity or force already scaled to metres)
+    float shaft_radius = 0.0f;    // m
+    float head_radius = 0.0f;     // m
     Look look;
 };
 
 // Triangles with per-vertex normals and colours: cloth, soft bodies, static
 // collider meshes. Both faces are lit (cloth is seen from both sides).
 struct Mesh {
-    std::vector<Vec3> positions;           // m
-    std::vector<Vec3> normals;             // unit; empty: computed from the triangles
-    std::vector<Color> colors;             // per vertex; empty: `look.color` everywhere
-    std::vector<std::uint32_t> indices;    // three per triangle
+    std::vector<Vec3> positions;         // m
+    std::vector<Vec3> normals;           // unit; empty: computed from the triangles
+    std::vector<Color> colors;           // per vertex; empty: `look.color` everywhere
+    std::vector<std::uint32_t> indices;  // three per triangle
     Look look;
 };
 
@@ -133,10 +133,10 @@ struct Camera {
     Vec3 eye{4.0f, 3.0f, 6.0f};  // m
     Vec3 target = Vec3::Zero();  // m, point at the centre of the image
     Vec3 up = Vec3::UnitY();
-    float fov_y_deg = 40.0f;     // degrees, vertical field of view (perspective)
-    float ortho_height = 4.0f;   // m, visible height (orthographic)
-    float near_plane = 0.05f;    // m
-    float far_plane = 200.0f;    // m
+    float fov_y_deg = 40.0f;    // degrees, vertical field of view (perspective)
+    float ortho_height = 4.0f;  // m, visible height (orthographic)
+    float near_plane = 0.05f;   // m
+    float far_plane = 200.0f;   // m
 };
 
 // One directional light plus ambient (Blinn-Phong), with a shadow map.
@@ -152,9 +152,9 @@ struct Light {
 // --- Overlays (screen space, pixels, origin top-left) ---------------------------
 
 struct Text {
-    std::string text;       // UTF-8, '\n' for new lines
-    Vec2 position{8, 8};    // px, top-left corner of the text box
-    float size = 16.0f;     // px, text height
+    std::string text;     // UTF-8, '\n' for new lines
+    Vec2 position{8, 8};  // px, top-left corner of the text box
+    float size = 16.0f;   // px, text height
     Color color{0.1f, 0.1f, 0.1f, 1.0f};
     bool backdrop = false;  // a translucent panel behind the text, for legibility over a scene
 };
@@ -162,19 +162,19 @@ struct Text {
 // A 2D plot panel: line series with axes, ticks, labels and a legend.
 struct Plot {
     struct Series {
-        std::string name;           // legend entry; empty: not in the legend
-        std::vector<Vec2> points;   // data units
+        std::string name;          // legend entry; empty: not in the legend
+        std::vector<Vec2> points;  // data units
         Color color{0.1f, 0.3f, 0.8f, 1.0f};
-        float width = 2.0f;         // px
+        float width = 2.0f;  // px
     };
-    Vec2 position{8, 8};            // px, top-left of the panel
-    Vec2 size{320, 200};            // px
+    Vec2 position{8, 8};  // px, top-left of the panel
+    Vec2 size{320, 200};  // px
     std::string title;
     std::string x_label, y_label;
     std::vector<Series> series;
-    std::optional<Vec2> x_range;    // data units; empty: fitted to the data
+    std::optional<Vec2> x_range;  // data units; empty: fitted to the data
     std::optional<Vec2> y_range;
-    float text_size = 13.0f;        // px
+    float text_size = 13.0f;  // px
     Color background{1.0f, 1.0f, 1.0f, 0.85f};
     Color foreground{0.15f, 0.15f, 0.15f, 1.0f};  // axes, ticks, labels
 };
@@ -203,9 +203,9 @@ struct DrawList {
 
 // How a frame is made, separate from what is in it.
 struct RenderSettings {
-    int width = 640;        // px
-    int height = 480;       // px
-    int msaa_samples = 0;   // 0 or 1: off (goldens); 4 for videos and the window
+    int width = 640;             // px
+    int height = 480;            // px
+    int msaa_samples = 0;        // 0 or 1: off (goldens); 4 for videos and the window
     int shadow_map_size = 1024;  // texels per side (2048 costs 6 ms more per frame on llvmpipe)
 };
 

@@ -40,8 +40,9 @@ std::vector<char32_t> character_set() {
     for (char32_t c = 0x391; c <= 0x3A9; ++c) set.push_back(c);
     for (char32_t c = 0x3B1; c <= 0x3C9; ++c) set.push_back(c);
     for (char32_t c = 0x2070; c <= 0x208E; ++c) set.push_back(c);
-    for (char32_t c : {0x2013, 0x2014, 0x2022, 0x2026, 0x2032, 0x2033, 0x2190, 0x2191, 0x2192, 0x2193, 0x2202, 0x2207,
-                       0x2211, 0x2212, 0x221A, 0x221D, 0x221E, 0x222B, 0x2248, 0x2260, 0x2261, 0x2264, 0x2265, 0x22C5}) {
+    for (char32_t c :
+         {0x2013, 0x2014, 0x2022, 0x2026, 0x2032, 0x2033, 0x2190, 0x2191, 0x2192, 0x2193, 0x2202, 0x2207,
+          0x2211, 0x2212, 0x221A, 0x221D, 0x221E, 0x222B, 0x2248, 0x2260, 0x2261, 0x2264, 0x2265, 0x22C5}) {
         set.push_back(c);
     }
     return set;
@@ -86,8 +87,9 @@ Font Font::load(const std::filesystem::path& ttf) {
     auto file = std::make_shared<File>();
     std::ifstream in(ttf, std::ios::binary);
     if (!in) {
-        throw RenderError(ErrorKind::unavailable,
-                          "font " + ttf.string() + " cannot be opened (install fonts-dejavu-core, or set PLAUSIBLE_FONT)");
+        throw RenderError(
+            ErrorKind::unavailable,
+            "font " + ttf.string() + " cannot be opened (install fonts-dejavu-core, or set PLAUSIBLE_FONT)");
     }
     file->bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     const int offset = file->bytes.empty() ? -1 : stbtt_GetFontOffsetForIndex(file->bytes.data(), 0);
@@ -120,8 +122,8 @@ Font Font::load(const std::filesystem::path& ttf) {
         stbtt_GetGlyphHMetrics(&info, index, &advance, &bearing);
         g.advance = static_cast<float>(advance) * scale;
         Field f;
-        f.pixels = stbtt_GetGlyphSDF(&info, scale, index, kPadding, static_cast<unsigned char>(kOnEdge),
-                                     kDistanceScale, &f.w, &f.h, &f.x_offset, &f.y_offset);
+        f.pixels = stbtt_GetGlyphSDF(&info, scale, index, kPadding, static_cast<unsigned char>(kOnEdge), kDistanceScale,
+                                     &f.w, &f.h, &f.x_offset, &f.y_offset);
         g.x_offset = static_cast<float>(f.x_offset);
         g.y_offset = static_cast<float>(f.y_offset);
         font.glyphs_.push_back(g);
@@ -257,13 +259,17 @@ void draw_text(Image& image, const Font& font, std::string_view utf8, float x, f
         return static_cast<float>(atlas[static_cast<std::size_t>(ty) * aw + tx]);
     };
     for (const GlyphQuad& q : font.layout(utf8, x, y, size_px)) {
-        const int px0 = std::max(0, static_cast<int>(std::floor(q.x0))), px1 = std::min(image.width, static_cast<int>(std::ceil(q.x1)));
-        const int py0 = std::max(0, static_cast<int>(std::floor(q.y0))), py1 = std::min(image.height, static_cast<int>(std::ceil(q.y1)));
+        const int px0 = std::max(0, static_cast<int>(std::floor(q.x0))),
+                  px1 = std::min(image.width, static_cast<int>(std::ceil(q.x1)));
+        const int py0 = std::max(0, static_cast<int>(std::floor(q.y0))),
+                  py1 = std::min(image.height, static_cast<int>(std::ceil(q.y1)));
         for (int py = py0; py < py1; ++py) {
             for (int px = px0; px < px1; ++px) {
                 // The pixel centre in atlas texels, sampled bilinearly (texel centres at +0.5).
-                const float u = (q.u0 + ((static_cast<float>(px) + 0.5f - q.x0) / (q.x1 - q.x0)) * (q.u1 - q.u0)) * aw - 0.5f;
-                const float v = (q.v0 + ((static_cast<float>(py) + 0.5f - q.y0) / (q.y1 - q.y0)) * (q.v1 - q.v0)) * ah - 0.5f;
+                const float u =
+                    (q.u0 + ((static_cast<float>(px) + 0.5f - q.x0) / (q.x1 - q.x0)) * (q.u1 - q.u0)) * aw - 0.5f;
+                const float v =
+                    (q.v0 + ((static_cast<float>(py) + 0.5f - q.y0) / (q.y1 - q.y0)) * (q.v1 - q.v0)) * ah - 0.5f;
                 const int tx = static_cast<int>(std::floor(u)), ty = static_cast<int>(std::floor(v));
                 const float fx = u - static_cast<float>(tx), fy = v - static_cast<float>(ty);
                 const float d = (texel(tx, ty) * (1 - fx) + texel(tx + 1, ty) * fx) * (1 - fy) +

@@ -62,11 +62,11 @@ private:
     // One baked glyph; sizes are at bake size, in pixels.
     struct Glyph {
         char32_t codepoint = 0;
-        int index = 0;                 // glyph index in the font file (kerning)
+        int index = 0;                   // glyph index in the font file (kerning)
         int x = 0, y = 0, w = 0, h = 0;  // texels, its rectangle in the atlas
-        float x_offset = 0;            // px, from the pen to the rectangle's left edge
-        float y_offset = 0;            // px, from the baseline to the rectangle's top (negative: above)
-        float advance = 0;             // px, pen movement after the glyph
+        float x_offset = 0;              // px, from the pen to the rectangle's left edge
+        float y_offset = 0;              // px, from the baseline to the rectangle's top (negative: above)
+        float advance = 0;               // px, pen movement after the glyph
     };
     struct File;  // the font file's bytes and stb_truetype's view of them (kerning)
 

@@ -15,9 +15,12 @@ namespace render {
 
 std::string_view backend_name(Backend backend) {
     switch (backend) {
-        case Backend::osmesa: return "osmesa";
-        case Backend::egl: return "egl";
-        case Backend::glfw: return "glfw";
+        case Backend::osmesa:
+            return "osmesa";
+        case Backend::egl:
+            return "egl";
+        case Backend::glfw:
+            return "glfw";
     }
     return "?";
 }
@@ -78,7 +81,8 @@ void GlContext::load_functions(GlProcLoader loader) {
                           std::string(backend_name(backend_)) + ": could not load the OpenGL functions");
     }
     if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 33) {
-        throw RenderError(ErrorKind::unavailable, std::string(backend_name(backend_)) + ": OpenGL 3.3 core needed, got " +
+        throw RenderError(ErrorKind::unavailable, std::string(backend_name(backend_)) +
+                                                      ": OpenGL 3.3 core needed, got " +
                                                       std::to_string(GLAD_VERSION_MAJOR(version)) + "." +
                                                       std::to_string(GLAD_VERSION_MINOR(version)));
     }
@@ -112,9 +116,12 @@ void prepare_mesa_environment() {
 std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
     detail::prepare_mesa_environment();
     switch (options.backend) {
-        case Backend::osmesa: return detail::create_osmesa_context();
-        case Backend::egl: return detail::create_egl_context();
-        case Backend::glfw: return detail::create_glfw_context(options);
+        case Backend::osmesa:
+            return detail::create_osmesa_context();
+        case Backend::egl:
+            return detail::create_egl_context();
+        case Backend::glfw:
+            return detail::create_glfw_context(options);
     }
     throw RenderError(ErrorKind::bad_input, "unknown backend");
 }

@@ -29,12 +29,12 @@ std::optional<Backend> backend_from_name(std::string_view name);
 // What made the pixels: golden files store it, and a golden check compares it
 // before blaming the simulation for a different picture.
 struct Fingerprint {
-    std::string backend;   // osmesa, egl, glfw
-    std::string vendor;    // GL_VENDOR
-    std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
-    std::string version;   // GL_VERSION
-    std::string cpu_simd;  // the SIMD extensions this CPU has, which llvmpipe's code uses
-    int gl_threads = 0;    // llvmpipe rasteriser threads (LP_NUM_THREADS)
+    std::string backend;          // osmesa, egl, glfw
+    std::string vendor;           // GL_VENDOR
+    std::string renderer;         // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
+    std::string version;          // GL_VERSION
+    std::string cpu_simd;         // the SIMD extensions this CPU has, which llvmpipe's code uses
+    int gl_threads = 0;           // llvmpipe rasteriser threads (LP_NUM_THREADS)
     std::string summary() const;  // one line for logs and JSON
 };
 
@@ -44,7 +44,7 @@ struct ContextOptions {
     int window_width = 1280;  // px
     int window_height = 720;  // px
     std::string title = "Plausible";
-    bool visible = true;      // false: a hidden window (scripted screenshots)
+    bool visible = true;  // false: a hidden window (scripted screenshots)
 };
 
 class GlContext {

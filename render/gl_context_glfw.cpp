@@ -32,8 +32,8 @@ public:
         glfwSetErrorCallback(&record_glfw_error);
         glfw_last_error.clear();
         if (open_windows == 0 && glfwInit() != GLFW_TRUE) {
-            throw RenderError(ErrorKind::no_display, "no display: cannot open a window (GLFW: " + glfw_last_error +
-                                                         "). " + kInstead);
+            throw RenderError(ErrorKind::no_display,
+                              "no display: cannot open a window (GLFW: " + glfw_last_error + "). " + kInstead);
         }
         ++open_windows;
         glfwDefaultWindowHints();
@@ -43,7 +43,8 @@ public:
         glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
         glfwWindowHint(GLFW_VISIBLE, options.visible ? GLFW_TRUE : GLFW_FALSE);
         glfwWindowHint(GLFW_DEPTH_BITS, 0);  // the renderer's framebuffers have their own depth
-        window_ = glfwCreateWindow(options.window_width, options.window_height, options.title.c_str(), nullptr, nullptr);
+        window_ =
+            glfwCreateWindow(options.window_width, options.window_height, options.title.c_str(), nullptr, nullptr);
         if (window_ == nullptr) {
             release();
             throw RenderError(ErrorKind::no_display,

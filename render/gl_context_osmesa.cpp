@@ -14,14 +14,26 @@ class OsmesaContext final : public GlContext {
 public:
     OsmesaContext() : GlContext(Backend::osmesa) {
         const int attribs[] = {
-            OSMESA_FORMAT,       OSMESA_RGBA,         OSMESA_DEPTH_BITS,          0,
-            OSMESA_STENCIL_BITS, 0,                   OSMESA_ACCUM_BITS,          0,
-            OSMESA_PROFILE,      OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-            OSMESA_CONTEXT_MINOR_VERSION, 3,          0,
+            OSMESA_FORMAT,
+            OSMESA_RGBA,
+            OSMESA_DEPTH_BITS,
+            0,
+            OSMESA_STENCIL_BITS,
+            0,
+            OSMESA_ACCUM_BITS,
+            0,
+            OSMESA_PROFILE,
+            OSMESA_CORE_PROFILE,
+            OSMESA_CONTEXT_MAJOR_VERSION,
+            3,
+            OSMESA_CONTEXT_MINOR_VERSION,
+            3,
+            0,
         };
         context_ = OSMesaCreateContextAttribs(attribs, nullptr);
         if (context_ == nullptr) {
-            throw RenderError(ErrorKind::unavailable, "osmesa: OSMesaCreateContextAttribs refused a GL 3.3 core context");
+            throw RenderError(ErrorKind::unavailable,
+                              "osmesa: OSMesaCreateContextAttribs refused a GL 3.3 core context");
         }
         make_current();
         load_functions(reinterpret_cast<GlProcLoader>(&OSMesaGetProcAddress));

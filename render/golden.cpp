@@ -37,8 +37,9 @@ void validate(const GoldenThresholds& t) {
         if (!(v >= 0.0 && v <= 1.0)) {
             char text[32];
             std::snprintf(text, sizeof text, "%g", v);
-            throw RenderError(ErrorKind::bad_input, std::string("thresholds.") + name +
-                                                        " must be a share within 0 .. 1 of the pixels (got " + text + ")");
+            throw RenderError(
+                ErrorKind::bad_input,
+                std::string("thresholds.") + name + " must be a share within 0 .. 1 of the pixels (got " + text + ")");
         }
     };
     share(t.small_share, "small_share");
@@ -102,11 +103,13 @@ GoldenDiff compare_golden(const Image& actual, const Image& expected, const Gold
         return r;
     }
     r.summary = "large errors on " + percent(r.large_share) + " (" + std::to_string(r.large_pixels) + " px, limit " +
-                percent(t.large_share) + "), small on " + percent(r.small_share) + " (" + std::to_string(r.small_pixels) +
-                " px, limit " + percent(t.small_share) + "), max d " + std::to_string(r.max_d);
+                percent(t.large_share) + "), small on " + percent(r.small_share) + " (" +
+                std::to_string(r.small_pixels) + " px, limit " + percent(t.small_share) + "), max d " +
+                std::to_string(r.max_d);
     if (!r.large_box.empty()) {
-        r.summary += ", large-error box x " + std::to_string(r.large_box.x0) + ".." + std::to_string(r.large_box.x1 - 1) +
-                     " y " + std::to_string(r.large_box.y0) + ".." + std::to_string(r.large_box.y1 - 1);
+        r.summary += ", large-error box x " + std::to_string(r.large_box.x0) + ".." +
+                     std::to_string(r.large_box.x1 - 1) + " y " + std::to_string(r.large_box.y0) + ".." +
+                     std::to_string(r.large_box.y1 - 1);
     }
     return r;
 }

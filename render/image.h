@@ -62,10 +62,10 @@ Image read_png(const std::filesystem::path& path, int channels = 4);
 // (in 8-bit levels). The diff image shows differing pixels in red over a
 // faded grey copy of `expected`, so a failure is readable at a glance.
 struct ImageDiff {
-    int max_channel_diff = 0;        // largest |a - b| over all pixels and channels, 8-bit levels
-    std::size_t pixels_over = 0;     // pixels whose largest channel difference > tolerance
-    double share_over = 0.0;         // pixels_over / (width * height), 0..1
-    Image diff;                      // RGB visualisation, same size as the inputs
+    int max_channel_diff = 0;     // largest |a - b| over all pixels and channels, 8-bit levels
+    std::size_t pixels_over = 0;  // pixels whose largest channel difference > tolerance
+    double share_over = 0.0;      // pixels_over / (width * height), 0..1
+    Image diff;                   // RGB visualisation, same size as the inputs
 };
 // Throws RenderError(bad_input) when sizes or channel counts differ.
 ImageDiff diff_images(const Image& actual, const Image& expected, int tolerance);
@@ -73,10 +73,10 @@ ImageDiff diff_images(const Image& actual, const Image& expected, int tolerance)
 // N frames of the same size tiled into one sheet, left to right then top to
 // bottom, each with its label written under it in the given font.
 struct SheetOptions {
-    int columns = 0;                      // 0: all frames in one row (a filmstrip)
-    int padding = 4;                      // px between tiles and around the edge
-    float label_size = 14.0f;             // px, text height of the labels
-    Rgba8 background{32, 32, 36, 255};    // sheet colour behind the tiles
+    int columns = 0;                    // 0: all frames in one row (a filmstrip)
+    int padding = 4;                    // px between tiles and around the edge
+    float label_size = 14.0f;           // px, text height of the labels
+    Rgba8 background{32, 32, 36, 255};  // sheet colour behind the tiles
     Rgba8 label_color{235, 235, 235, 255};
 };
 // Throws RenderError(bad_input) for zero frames, frames of different sizes or

@@ -351,7 +351,8 @@ void upload(const GladGLContext& gl, GLenum target, GLuint buffer, const std::ve
     gl.BindBuffer(target, buffer);
     // Orphan then fill: the driver need not wait for the previous frame's use.
     gl.BufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), nullptr, GL_STREAM_DRAW);
-    if (!data.empty()) gl.BufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
+    if (!data.empty())
+        gl.BufferData(target, static_cast<GLsizeiptr>(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
 }
 
 // A unit mesh ready to instance: its vertices, its indices, and a buffer of
@@ -419,9 +420,9 @@ bool finite_positive(float value) { return std::isfinite(value) && value > 0.0f;
 
 // Everything of one pass (solid or ghost), flattened for instanced drawing.
 struct PassItems {
-    std::vector<float> spheres;     // x y z r, r g b a
-    std::vector<float> cylinders;   // closed cylinders
-    std::vector<float> tubes;       // open cylinders (capsule sides)
+    std::vector<float> spheres;    // x y z r, r g b a
+    std::vector<float> cylinders;  // closed cylinders
+    std::vector<float> tubes;      // open cylinders (capsule sides)
     std::vector<float> cones;
     std::vector<float> boxes;
     std::vector<float> planes;
@@ -475,7 +476,8 @@ void add_mesh(PassItems& pass, const Mesh& mesh, const Color& look_color, bool g
         c = ghost ? ghost_color(c) : Color{c.r, c.g, c.b, 1.0f};
         const Vec3& p = mesh.positions[i];
         const Vec3& nn = normals[i];
-        pass.mesh_vertices.insert(pass.mesh_vertices.end(), {p.x(), p.y(), p.z(), nn.x(), nn.y(), nn.z(), c.r, c.g, c.b, c.a});
+        pass.mesh_vertices.insert(pass.mesh_vertices.end(),
+                                  {p.x(), p.y(), p.z(), nn.x(), nn.y(), nn.z(), c.r, c.g, c.b, c.a});
     }
     for (std::uint32_t index : mesh.indices) pass.mesh_indices.push_back(base + index);
 }
@@ -531,9 +533,8 @@ Eigen::Matrix4f projection_matrix(const Camera& camera, float aspect) {
 }
 
 std::optional<Vec2> project_to_pixel(const Camera& camera, int width, int height, const Vec3& point) {
-    const Eigen::Vector4f clip =
-        projection_matrix(camera, static_cast<float>(width) / static_cast<float>(height)) * view_matrix(camera) *
-        point.homogeneous();
+    const Eigen::Vector4f clip = projection_matrix(camera, static_cast<float>(width) / static_cast<float>(height)) *
+                                 view_matrix(camera) * point.homogeneous();
     if (clip.w() <= 0.0f) return std::nullopt;
     const float x = clip.x() / clip.w(), y = clip.y() / clip.w();
     return Vec2((x * 0.5f + 0.5f) * static_cast<float>(width), (0.5f - y * 0.5f) * static_cast<float>(height));
@@ -550,7 +551,7 @@ struct Renderer::Impl {
     InstancedMesh cylinder, tube, cone, box, plane;
     GLuint quad_vao = 0, quad_vertices = 0, sphere_instances = 0;  // impostors: 4 corners, instanced
     GLuint ground_vao = 0, ground_vertices = 0;
-    GLuint free_vao = 0, free_vertices = 0, free_indices = 0;      // meshes of the frame
+    GLuint free_vao = 0, free_vertices = 0, free_indices = 0;  // meshes of the frame
     GLuint trail_vao = 0, trail_vertices = 0;
     GLuint overlay_vao = 0, overlay_vertices = 0;
     GLuint atlas = 0;
@@ -577,8 +578,8 @@ struct Renderer::Impl {
     void ensure_shadow_map(int size);
     void prepare(const DrawList& list, const Vec3& eye, const Vec3& forward);
     void set_lighting_uniforms(GLuint program, const DrawList& list, const Eigen::Matrix4f& view_proj,
-                               const Eigen::Matrix4f& light_view_proj, float shadow_texel, bool shadows, const Vec3& eye,
-                               const Vec3& forward, bool ortho);
+                               const Eigen::Matrix4f& light_view_proj, float shadow_texel, bool shadows,
+                               const Vec3& eye, const Vec3& forward, bool ortho);
     void draw_pass(const PassItems& items, GLuint mesh_prog, GLuint sphere_prog, bool depth_only);
     void draw_instanced(const InstancedMesh& mesh, const std::vector<float>& instances);
     void draw(const DrawList& list, const RenderSettings& settings);
@@ -670,8 +671,8 @@ void Renderer::Impl::destroy_resources() {
     for (InstancedMesh* m : {&cylinder, &tube, &cone, &box, &plane}) destroy(gl, *m);
     const GLuint vaos[] = {quad_vao, ground_vao, free_vao, trail_vao, overlay_vao};
     gl.DeleteVertexArrays(5, vaos);
-    const GLuint buffers[] = {quad_vertices,  sphere_instances, ground_vertices, free_vertices,
-                              free_indices, trail_vertices,   overlay_vertices};
+    const GLuint buffers[] = {quad_vertices, sphere_instances, ground_vertices, free_vertices,
+                              free_indices,  trail_vertices,   overlay_vertices};
     gl.DeleteBuffers(7, buffers);
     gl.DeleteTextures(1, &atlas);
     ensure_targets(0, 0, 0);
@@ -772,7 +773,8 @@ void Renderer::Impl::prepare(const DrawList& list, const Vec3& eye, const Vec3& 
         push_instance(pass(c.look).cylinders, detail::segment_transform(c.a, c.b, c.radius), shown_color(c.look));
     }
     for (const Cone& c : list.cones) {
-        if (!c.base.allFinite() || !c.apex.allFinite() || !finite_positive(c.radius) || !((c.apex - c.base).norm() > 0)) {
+        if (!c.base.allFinite() || !c.apex.allFinite() || !finite_positive(c.radius) ||
+            !((c.apex - c.base).norm() > 0)) {
             continue;
         }
         push_instance(pass(c.look).cones, detail::segment_transform(c.base, c.apex, c.radius), shown_color(c.look));
@@ -969,7 +971,8 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     const bool shadows = list.light.shadows && !bounds.empty();
     Eigen::Matrix4f light_view_proj = Eigen::Matrix4f::Identity();
     float shadow_texel = 0;
-    const Vec3 light_dir = list.light.direction.norm() > 0 ? Vec3(list.light.direction.normalized()) : Vec3(-Vec3::UnitY());
+    const Vec3 light_dir =
+        list.light.direction.norm() > 0 ? Vec3(list.light.direction.normalized()) : Vec3(-Vec3::UnitY());
 
     gl.Disable(GL_CULL_FACE);  // thin cloth and open tubes are seen from both sides
     gl.Enable(GL_DEPTH_TEST);
@@ -1021,10 +1024,9 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     gl.ActiveTexture(GL_TEXTURE0);
     gl.BindTexture(GL_TEXTURE_2D, shadows ? shadow_map : 0);
 
-    const float pixel_scale =
-        ortho ? camera.ortho_height / static_cast<float>(settings.height)
-              : 2.0f * std::tan(0.5f * camera.fov_y_deg * std::numbers::pi_v<float> / 180.0f) /
-                    static_cast<float>(settings.height);
+    const float pixel_scale = ortho ? camera.ortho_height / static_cast<float>(settings.height)
+                                    : 2.0f * std::tan(0.5f * camera.fov_y_deg * std::numbers::pi_v<float> / 180.0f) /
+                                          static_cast<float>(settings.height);
     for (GLuint program : {mesh_program, sphere_program, ground_program}) {
         set_lighting_uniforms(program, list, view_proj, light_view_proj, shadow_texel, shadows, eye, forward, ortho);
     }
@@ -1118,7 +1120,8 @@ void Renderer::draw(const DrawList& list, const RenderSettings& settings) { impl
 
 Image Renderer::read_back(int channels) {
     if (channels != 3 && channels != 4) {
-        throw RenderError(ErrorKind::bad_input, "read_back: channels must be 3 or 4 (got " + std::to_string(channels) + ")");
+        throw RenderError(ErrorKind::bad_input,
+                          "read_back: channels must be 3 or 4 (got " + std::to_string(channels) + ")");
     }
     if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
     Impl& r = *impl_;

@@ -44,7 +44,7 @@ public:
     void present();
 
     struct FrameStats {
-        std::size_t triangles = 0;   // including the shadow pass
+        std::size_t triangles = 0;  // including the shadow pass
         std::size_t draw_calls = 0;
     };
     FrameStats last_frame() const;

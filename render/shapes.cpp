@@ -129,7 +129,8 @@ Eigen::Matrix4f box_transform(const Box& box) {
 Eigen::Matrix4f plane_transform(const Plane& plane) {
     Eigen::Matrix4f m = Eigen::Matrix4f::Identity();
     const Vec3 n = plane.normal.norm() > 0 ? Vec3(plane.normal.normalized()) : Vec3(Vec3::UnitY());
-    m.block<3, 3>(0, 0) = rotation_from_y(n) * Eigen::Vector3f(0.5f * plane.size.x(), 1, 0.5f * plane.size.y()).asDiagonal();
+    m.block<3, 3>(0, 0) =
+        rotation_from_y(n) * Eigen::Vector3f(0.5f * plane.size.x(), 1, 0.5f * plane.size.y()).asDiagonal();
     m.block<3, 1>(0, 3) = plane.center;
     return m;
 }

@@ -12,8 +12,8 @@
 namespace render::detail {
 
 struct UnitMesh {
-    std::vector<float> vertices;          // x y z nx ny nz per vertex
-    std::vector<std::uint32_t> indices;   // three per triangle
+    std::vector<float> vertices;         // x y z nx ny nz per vertex
+    std::vector<std::uint32_t> indices;  // three per triangle
 };
 
 constexpr int kRoundSegments = 20;  // around a cylinder or cone: smooth at 1280x720, 40 side triangles

@@ -14,12 +14,18 @@ namespace render::testing {
 inline Color hsv(float h, float s, float v) {
     const float c = v * s, hp = std::fmod(h, 1.0f) * 6.0f, x = c * (1 - std::abs(std::fmod(hp, 2.0f) - 1));
     float r = 0, g = 0, b = 0;
-    if (hp < 1) r = c, g = x;
-    else if (hp < 2) r = x, g = c;
-    else if (hp < 3) g = c, b = x;
-    else if (hp < 4) g = x, b = c;
-    else if (hp < 5) r = x, b = c;
-    else r = c, b = x;
+    if (hp < 1)
+        r = c, g = x;
+    else if (hp < 2)
+        r = x, g = c;
+    else if (hp < 3)
+        g = c, b = x;
+    else if (hp < 4)
+        g = x, b = c;
+    else if (hp < 5)
+        r = x, b = c;
+    else
+        r = c, b = x;
     return Color{r + v - c, g + v - c, b + v - c, 1};
 }
 
@@ -66,7 +72,8 @@ inline DrawList lecture_scene() {
     // A projectile and its analytic ghost, with a velocity arrow and a trail.
     list.spheres.push_back(Sphere{Vec3(-0.6f, 1.5f, 0.8f), 0.22f, Look{Color{0.85f, 0.15f, 0.15f, 1}}});
     list.spheres.push_back(Sphere{Vec3(-0.2f, 1.7f, 0.8f), 0.22f, Look{Color{0.85f, 0.15f, 0.15f, 1}, true}});
-    list.arrows.push_back(Arrow{Vec3(-0.6f, 1.5f, 0.8f), Vec3(0.9f, 0.5f, 0.0f), 0, 0, Look{Color{0.1f, 0.6f, 0.2f, 1}}});
+    list.arrows.push_back(
+        Arrow{Vec3(-0.6f, 1.5f, 0.8f), Vec3(0.9f, 0.5f, 0.0f), 0, 0, Look{Color{0.1f, 0.6f, 0.2f, 1}}});
     Ribbon trail;
     trail.width = 0.05f;
     trail.look.color = Color{0.85f, 0.15f, 0.15f, 0.9f};
@@ -81,10 +88,10 @@ inline DrawList lecture_scene() {
     list.boxes.push_back(Box{Vec3(2.25f, 0.85f, -0.45f), Vec3(0.35f, 0.25f, 0.35f),
                              Eigen::Quaternionf(Eigen::AngleAxisf(0.4f, Vec3::UnitY())),
                              Look{Color{0.3f, 0.65f, 0.45f, 1}}});
-    list.capsules.push_back(Capsule{Vec3(0.6f, 0.15f, 1.6f), Vec3(1.6f, 0.15f, 1.9f), 0.15f,
-                                    Look{Color{0.75f, 0.6f, 0.45f, 1}}});
-    list.capsules.push_back(Capsule{Vec3(1.3f, 0.5f, -1.2f), Vec3(1.5f, 1.6f, -1.3f), 0.12f,
-                                    Look{Color{0.6f, 0.4f, 0.7f, 1}}});
+    list.capsules.push_back(
+        Capsule{Vec3(0.6f, 0.15f, 1.6f), Vec3(1.6f, 0.15f, 1.9f), 0.15f, Look{Color{0.75f, 0.6f, 0.45f, 1}}});
+    list.capsules.push_back(
+        Capsule{Vec3(1.3f, 0.5f, -1.2f), Vec3(1.5f, 1.6f, -1.3f), 0.12f, Look{Color{0.6f, 0.4f, 0.7f, 1}}});
     // A cloth.
     list.meshes.push_back(cloth_mesh(24, 18, Vec3(-1.6f, 2.9f, -1.4f), 2.2f));
 
@@ -110,7 +117,8 @@ inline DrawList lecture_scene() {
 
 // Places the lecture scene's plot in the bottom-right corner of a w x h image.
 inline void place_plot(DrawList& list, int w, int h) {
-    for (Plot& p : list.plots) p.position = Vec2(static_cast<float>(w) - p.size.x() - 10, static_cast<float>(h) - p.size.y() - 10);
+    for (Plot& p : list.plots)
+        p.position = Vec2(static_cast<float>(w) - p.size.x() - 10, static_cast<float>(h) - p.size.y() - 10);
 }
 
 // n spheres on a jittered grid above the ground (the bench_render workload).

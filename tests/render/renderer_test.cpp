@@ -147,8 +147,8 @@ TEST_F(RendererTest, GhostIsLighterThanItsSolidTwinAndSeeThrough) {
         << "ghost " << luminance(ghost) << " vs solid " << luminance(solid) << " (8-bit luminance)";
     EXPECT_GT(ghost.b, ghost.r) << "a ghost keeps its hue";
     // Over the wall, the wall's red-less green comes through the ghost.
-    EXPECT_LT(ghost_over_wall.r + 40, ghost.r) << "ghost over sky r " << int(ghost.r) << ", over the wall "
-                                               << int(ghost_over_wall.r) << " (8-bit levels)";
+    EXPECT_LT(ghost_over_wall.r + 40, ghost.r)
+        << "ghost over sky r " << int(ghost.r) << ", over the wall " << int(ghost_over_wall.r) << " (8-bit levels)";
 }
 
 TEST_F(RendererTest, TextPixelsStayInsideTheTextBox) {
@@ -257,9 +257,9 @@ TEST(RendererThreads, FrameBytesDoNotDependOnThreadCount) {
     for (int threads : {1, 2}) {
         const fs::path png = dir / ("lecture_threads_" + std::to_string(threads) + ".png");
         fs::remove(png);
-        const std::string command = "PLAUSIBLE_FRAME_OUT='" + png.string() + "' LP_NUM_THREADS=" +
-                                    std::to_string(threads) +
-                                    " '" + self.string() + "' --gtest_filter=RendererHelper.WriteLectureFrame >/dev/null";
+        const std::string command = "PLAUSIBLE_FRAME_OUT='" + png.string() +
+                                    "' LP_NUM_THREADS=" + std::to_string(threads) + " '" + self.string() +
+                                    "' --gtest_filter=RendererHelper.WriteLectureFrame >/dev/null";
         ASSERT_EQ(std::system(command.c_str()), 0) << command;
         frames.push_back(read_png(png, 3));
     }
@@ -298,8 +298,8 @@ TEST_F(RendererTest, LectureSceneThroughOsmesaAndEgl) {
         EXPECT_LE(diff.share_over, 0.05) << "EGL vs OSMesa at " << s.width << "x" << s.height << ": "
                                          << diff.pixels_over << " pixels differ by more than 3 levels (max "
                                          << diff.max_channel_diff << ")";
-        std::printf("EGL vs OSMesa %dx%d MSAA %d: max channel difference %d, %.4f%% of pixels over 3 levels\n",
-                    s.width, s.height, s.msaa_samples, diff.max_channel_diff, 100.0 * diff.share_over);
+        std::printf("EGL vs OSMesa %dx%d MSAA %d: max channel difference %d, %.4f%% of pixels over 3 levels\n", s.width,
+                    s.height, s.msaa_samples, diff.max_channel_diff, 100.0 * diff.share_over);
     }
     write_png(results_dir() / "lecture_egl.png", egl_renderer.render(list, settings));
 }
