@@ -741,21 +741,26 @@ struct Builder {
     }
 
     // A particle named by its name or its index.
+    // A particle named by its name or its index, at `where` ("forces.springs[0].a").
+    std::size_t particle_at(const toml::node& n, const std::string& where) {
+        if (auto name = n.value<std::string>(); name && n.is_string()) {
+            if (auto it = by_name.find(*name); it != by_name.end()) return it->second;
+            r.fail(&n, where + " names no particle (got " + quote(*name) + ")");
+        }
+        if (n.is_integer()) {
+            const long long i = *n.value<long long>();
+            if (i >= 0 && static_cast<std::size_t>(i) < scene.model.particles.size())
+                return static_cast<std::size_t>(i);
+            r.fail(&n, where + " must be a particle index within 0 .. " +
+                           std::to_string(scene.model.particles.size() - 1) + " (got " + std::to_string(i) + ")");
+        }
+        r.fail(&n, where + " must be a particle name or index (got " + describe(n) + ")");
+    }
+
     std::size_t particle_ref(const Section& s, std::string_view key) {
         const toml::node* n = s.node(key);
         if (n == nullptr) s.fail(key, "is required: a particle name or index");
-        if (auto name = n->value<std::string>(); name && n->is_string()) {
-            if (auto it = by_name.find(*name); it != by_name.end()) return it->second;
-            s.fail(key, "names no particle (got " + quote(*name) + ")");
-        }
-        if (n->is_integer()) {
-            const long long i = *n->value<long long>();
-            if (i >= 0 && static_cast<std::size_t>(i) < scene.model.particles.size())
-                return static_cast<std::size_t>(i);
-            s.fail(key, "must be a particle index within 0 .. " + std::to_string(scene.model.particles.size() - 1) +
-                            " (got " + std::to_string(i) + ")");
-        }
-        s.fail(key, "must be a particle name or index (got " + describe(*n) + ")");
+        return particle_at(*n, s.key_path(key));
     }
 
     void forces(const Section& top) {
@@ -817,19 +822,8 @@ struct Builder {
         const toml::array* a = n->as_array();
         if (a == nullptr) s.fail(key, "must be an array of particle names or indices (got " + describe(*n) + ")");
         for (std::size_t k = 0; k < a->size(); ++k) {
-            const toml::node& e = *a->get(k);
-            const std::string where = s.key_path(key) + "[" + std::to_string(k) + "]";
-            if (auto name = e.value<std::string>(); name && e.is_string()) {
-                const auto it = by_name.find(*name);
-                if (it == by_name.end()) r.fail(&e, where + " names no particle (got " + quote(*name) + ")");
-                out.push_back(static_cast<std::uint32_t>(it->second));
-            } else if (e.is_integer() && *e.value<long long>() >= 0 &&
-                       static_cast<std::size_t>(*e.value<long long>()) < scene.model.particles.size()) {
-                out.push_back(static_cast<std::uint32_t>(*e.value<long long>()));
-            } else {
-                r.fail(&e, where + " must be a particle name or an index within 0 .. " +
-                               std::to_string(scene.model.particles.size() - 1) + " (got " + describe(e) + ")");
-            }
+            out.push_back(
+                static_cast<std::uint32_t>(particle_at(*a->get(k), s.key_path(key) + "[" + std::to_string(k) + "]")));
         }
         return out;
     }

@@ -123,12 +123,12 @@ bool collide_static(const Collider& collider, const Collisions& c, const Vec3& x
             return true;
         }
     }
-    SurfacePoint s = surface_point(collider, x);
-    if (std::holds_alternative<BoxCollider>(collider)) {
+    SurfacePoint s;
+    if (const auto* box = std::get_if<BoxCollider>(&collider)) {
         // The grown box (corners square, not rounded): consistent with the cast.
-        const auto& box = std::get<BoxCollider>(collider);
-        s = box_surface(box, box.half_extents + Vec3::Constant(r), x);
+        s = box_surface(*box, box->half_extents + Vec3::Constant(r), x);
     } else {
+        s = surface_point(collider, x);
         s.distance -= r;
     }
     if (s.distance >= 0.0) return false;
@@ -188,11 +188,9 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
     }
     for (std::size_t k = 0; k < cells; ++k) s.cell_start[k + 1] += s.cell_start[k];
     s.cell_entries.resize(n);
-    {
-        std::vector<std::uint32_t> fill(s.cell_start.begin(), s.cell_start.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) {
-            if (s.cell_of[i] >= 0) s.cell_entries[fill[s.cell_of[i]]++] = static_cast<std::uint32_t>(i);
-        }
+    s.cell_fill.assign(s.cell_start.begin(), s.cell_start.end() - 1);  // each cell's next free entry
+    for (std::size_t i = 0; i < n; ++i) {
+        if (s.cell_of[i] >= 0) s.cell_entries[s.cell_fill[s.cell_of[i]]++] = static_cast<std::uint32_t>(i);
     }
 
     // Positions and radii in entry order: the candidate tests below read

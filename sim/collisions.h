@@ -88,6 +88,7 @@ SurfacePoint surface_point(const Collider& collider, const Vec3& p);
 struct CollisionScratch {
     std::vector<std::uint32_t> cell_start;    // (cells + 1) counting-sort offsets
     std::vector<std::uint32_t> cell_entries;  // particle indices sorted by cell
+    std::vector<std::uint32_t> cell_fill;     // (cells) counting-sort cursors, kept to reuse their memory
     std::vector<std::int32_t> cell_of;        // cell of each particle (-1: not in the grid)
     std::vector<double> sorted;               // (4 x entries) x, y, z, radius in entry order, m
     std::size_t contacts = 0;                 // contacts resolved in the last pass

@@ -26,6 +26,32 @@ Verdict exploded(std::uint64_t frame, const char* quantity, std::size_t index, d
     return v;
 }
 
+// The per-item rules in their documented order over n items (particles or
+// bodies): a non-finite state (lowest index first, position before
+// velocity), then speed, then bounds. position(i) and velocity(i) give Vec3.
+template <typename Position, typename Velocity>
+Verdict first_violation(const WatchdogLimits& limits, std::size_t n, Position position, Velocity velocity,
+                        std::uint64_t frame) {
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 x = position(i), v = velocity(i);
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(x[k])) return exploded(frame, "position", i, x[k], 0.0);
+        }
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(v[k])) return exploded(frame, "velocity", i, v[k], 0.0);
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const double speed = velocity(i).norm();
+        if (speed > limits.max_speed) return exploded(frame, "speed", i, speed, limits.max_speed);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const double reach = position(i).cwiseAbs().maxCoeff();
+        if (reach > limits.world_half_extent) return exploded(frame, "bounds", i, reach, limits.world_half_extent);
+    }
+    return {};
+}
+
 }  // namespace
 
 void validate(const WatchdogLimits& limits) {
@@ -60,22 +86,10 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
         suspect |= !(s2 <= speed2_limit) | !(reach <= box);
     }
     if (suspect) {
-        for (std::size_t i = 0; i < n; ++i) {
-            for (int k = 0; k < 3; ++k) {
-                if (!std::isfinite(x[k][i])) return exploded(frame, "position", i, x[k][i], 0.0);
-            }
-            for (int k = 0; k < 3; ++k) {
-                if (!std::isfinite(v[k][i])) return exploded(frame, "velocity", i, v[k][i], 0.0);
-            }
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            const double s = std::sqrt(v[0][i] * v[0][i] + v[1][i] * v[1][i] + v[2][i] * v[2][i]);
-            if (s > limits.max_speed) return exploded(frame, "speed", i, s, limits.max_speed);
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            const double reach = std::max({std::abs(x[0][i]), std::abs(x[1][i]), std::abs(x[2][i])});
-            if (reach > box) return exploded(frame, "bounds", i, reach, box);
-        }
+        const Verdict found = first_violation(
+            limits, n, [&](std::size_t i) { return state.x.get(i); }, [&](std::size_t i) { return state.v.get(i); },
+            frame);
+        if (found.exploded()) return found;
     }
     if (limits.energy_growth > 0.0) {
         const double allowed = (limits.energy_growth - 1.0) * std::max(std::abs(initial_energy), limits.energy_floor);
@@ -91,28 +105,11 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
 Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
                      const std::vector<Vec3>& velocities, std::uint64_t frame) {
     if (!limits.enabled) return {};
-    auto body = [](Verdict v) {
-        v.subject = "body";
-        return v;
-    };
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-            if (!std::isfinite(positions[i][k])) return body(exploded(frame, "position", i, positions[i][k], 0.0));
-        }
-        for (int k = 0; k < 3; ++k) {
-            if (!std::isfinite(velocities[i][k])) return body(exploded(frame, "velocity", i, velocities[i][k], 0.0));
-        }
-    }
-    for (std::size_t i = 0; i < velocities.size(); ++i) {
-        const double s = velocities[i].norm();
-        if (s > limits.max_speed) return body(exploded(frame, "speed", i, s, limits.max_speed));
-    }
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-        const double reach = positions[i].cwiseAbs().maxCoeff();
-        if (reach > limits.world_half_extent)
-            return body(exploded(frame, "bounds", i, reach, limits.world_half_extent));
-    }
-    return {};
+    Verdict v = first_violation(
+        limits, positions.size(), [&](std::size_t i) { return positions[i]; },
+        [&](std::size_t i) { return velocities[i]; }, frame);
+    v.subject = "body";
+    return v;
 }
 
 std::string Verdict::message(std::string_view scene) const {
