@@ -53,28 +53,21 @@ void validate(const Emitter& e, std::size_t particle_count, std::size_t index) {
 
 Vec3 parked_position(const Emitter& e) { return e.position - Vec3(0.0, 100.0, 0.0); }
 
-bool born(const Emitter& e, std::uint32_t k, double t) { return t * e.rate >= static_cast<double>(k); }
+bool born(const Emitter& e, std::uint32_t k, double t) { return static_cast<double>(k) < t * e.rate; }
 
 std::size_t emit(const Emitter& e, double t0, double t1, ParticleState& state) {
-    // Births are at t = (k + n count) / rate: find each index b = k + n count
-    // with t0 < b / rate <= t1.
-    const auto b_first = static_cast<std::int64_t>(std::floor(t0 * e.rate)) + 1;
-    const auto b_last = static_cast<std::int64_t>(std::floor(t1 * e.rate));
+    // Births are at t = (k + n count) / rate: each index b = k + n count with
+    // t0 <= b / rate < t1 (half-open, so consecutive steps share no birth).
+    const auto b_first = static_cast<std::int64_t>(std::ceil(t0 * e.rate));
+    const auto b_end = static_cast<std::int64_t>(std::ceil(t1 * e.rate));
     std::size_t births = 0;
-    for (std::int64_t b = std::max<std::int64_t>(b_first, 0); b <= b_last; ++b) {
+    for (std::int64_t b = std::max<std::int64_t>(b_first, 0); b < b_end; ++b) {
         const auto k = static_cast<std::uint32_t>(b % e.count);
         const std::int64_t n = b / e.count;
         const std::size_t i = e.first + k;
         state.x.set(i, e.position);
         state.v.set(i, launch_velocity(e, k, n));
         state.inv_mass[i] = 1.0 / state.mass[i];
-        ++births;
-    }
-    // At t0 = 0 the births at exactly t = 0 (b = 0) belong to this call too.
-    if (t0 == 0.0) {
-        state.x.set(e.first, e.position);
-        state.v.set(e.first, launch_velocity(e, 0, 0));
-        state.inv_mass[e.first] = 1.0 / state.mass[e.first];
         ++births;
     }
     return births;

@@ -38,10 +38,11 @@ void validate(const Emitter& emitter, std::size_t particle_count, std::size_t in
 // Where particle k waits before its first birth.
 Vec3 parked_position(const Emitter& emitter);
 
-// True once particle k (0-based within the emitter) has been born by time t.
+// True once particle k (0-based within the emitter) has been born before
+// time t, i.e. emitted by a step that ended at or before t.
 bool born(const Emitter& emitter, std::uint32_t k, double t);
 
-// Births in (t0, t1]: each reborn particle goes back to the nozzle with its
+// Births in [t0, t1): each reborn particle goes back to the nozzle with its
 // new velocity and its inverse mass. Returns how many were born.
 std::size_t emit(const Emitter& emitter, double t0, double t1, ParticleState& state);
 
