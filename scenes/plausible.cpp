@@ -55,7 +55,11 @@ struct SceneOptions {
         if (frames) out.push_back({"frames", std::to_string(*frames)});
         return out;
     }
-    scenes::SceneDef load() const { return scenes::load_scene(scenes::resolve_scene(scene), overrides()); }
+    scenes::SceneDef load() const {
+        scenes::SceneDef def = scenes::load_scene(scenes::resolve_scene(scene), overrides());
+        for (const std::string& w : def.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        return def;
+    }
 };
 
 double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }

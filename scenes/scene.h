@@ -88,6 +88,9 @@ struct SceneDef {
     render::Camera camera;
     View view;
     std::vector<Ghost> ghosts;
+    // What is legal but likely a mistake (a jointed mass ratio over 10:1),
+    // each "file:line:column: message"; the command prints them to stderr.
+    std::vector<std::string> warnings;
 
     // The systems this scene builds, for `run --json` ("particles", "springs", ...).
     std::vector<std::string> systems() const;

@@ -36,12 +36,17 @@
 //                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
 //   Rigid bodies (ODE; a scene without them makes no ODE world):
 //   [rigid]      quickstep, iterations, friction, restitution, bounce_velocity (m/s), erp, cfm,
-//                ground, ground_height (m), seed
+//                ground, ground_height (m), seed, sleep, sleep_speed (m/s), sleep_angular_speed
+//                (deg/s), sleep_time (s); the [[colliders]] are static geometry for bodies too
 //   [[bodies]]   name, shape = "box"|"sphere"|"capsule"|"cylinder", size (m: box extents; radius,
 //                length), mass (kg) or density (kg/m³), position (m), rotation ([x, y, z] deg),
 //                velocity (m/s), angular_velocity (deg/s), com (m, in the shape's frame), color
+//                or parts = [{shape, size, offset (m), rotation, density}, ...] (a compound body)
+//   [[ragdolls]] name, height (m), mass (kg), position (m, pelvis), rotation, velocity (m/s),
+//                angular_velocity (deg/s), joint_friction (N·m), color; bones are "<name>.<bone>"
 //   [[joints]]   type = "ball"|"hinge"|"universal"|"slider"|"fixed", a, b (body names; b absent:
-//                the world), anchor (m), axis, axis2, lo, hi (deg; m for sliders),
+//                the world), anchor (m), axis, axis2, lo, hi (deg; m for sliders), lo2, hi2
+//                (universal: axis2; ball: swing about axis2 × axis), lo3, hi3 (ball: twist),
 //                stop_stiffness, stop_damping, motor_velocity (deg/s; m/s), motor_max_force
 //   [constraints] iterations (Gauss-Seidel sweeps per substep)
 //   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool;
@@ -58,6 +63,8 @@
 // Contents: 1. locations and messages  2. typed reads  3. sections  4. ghosts
 //           5. overrides  6. entry points
 #include "scenes/scene.h"
+
+#include "sim/ragdoll.h"
 
 #include <toml++/toml.h>
 
@@ -335,6 +342,31 @@ private:
 
 constexpr double kHuge = std::numeric_limits<double>::max();
 
+// A ragdoll's bones in shades of its colour, so that limbs read apart from
+// the trunk: forearms, shins and the head lighter, hands and feet darker.
+render::Color bone_color(render::Color c, sim::RagdollBone bone) {
+    using B = sim::RagdollBone;
+    auto mix = [&](float target, float amount) {
+        return render::Color{c.r + (target - c.r) * amount, c.g + (target - c.g) * amount,
+                             c.b + (target - c.b) * amount, c.a};
+    };
+    switch (bone) {
+        case B::head:
+        case B::lower_arm_left:
+        case B::lower_arm_right:
+        case B::lower_leg_left:
+        case B::lower_leg_right:
+            return mix(1.0f, 0.3f);
+        case B::hand_left:
+        case B::hand_right:
+        case B::foot_left:
+        case B::foot_right:
+            return mix(0.0f, 0.35f);
+        default:
+            return c;
+    }
+}
+
 // A palette for particles without a colour: distinct, readable on the light sky.
 render::Color palette(std::size_t i) {
     static const render::Color colors[] = {{0.90f, 0.33f, 0.12f, 1}, {0.16f, 0.42f, 0.80f, 1},
@@ -574,7 +606,7 @@ struct Builder {
         if (scene.model.particles.empty() && scene.model.rigid.empty()) {
             r.fail(&top.table(),
                    "a scene needs at least one [[particles]], [[groups]], [[ropes]], [[cloths]], "
-                   "[[soft_bodies]], [[emitters]] or [[bodies]] entry");
+                   "[[soft_bodies]], [[emitters]], [[bodies]] or [[ragdolls]] entry");
         }
     }
 
@@ -592,19 +624,40 @@ struct Builder {
         std::map<std::string, int, std::less<>> names;
         for (std::size_t k = 0; k < bodies.size(); ++k) {
             const Section s(r, *bodies[k], "bodies[" + std::to_string(k) + "]");
-            s.only({"name", "shape", "size", "mass", "density", "position", "rotation", "velocity", "angular_velocity",
-                    "com", "color"});
+            s.only({"name", "shape", "size", "parts", "mass", "density", "position", "rotation", "velocity",
+                    "angular_velocity", "com", "color"});
             sim::BodyDef b;
-            const std::string shape = s.word("shape", "box", {"box", "sphere", "capsule", "cylinder"});
-            b.shape = shape == "sphere"     ? sim::RigidShape::sphere
-                      : shape == "capsule"  ? sim::RigidShape::capsule
-                      : shape == "cylinder" ? sim::RigidShape::cylinder
-                                            : sim::RigidShape::box;
-            b.size = s.vec3("size", b.size, "m");
-            const int used = b.shape == sim::RigidShape::box ? 3 : b.shape == sim::RigidShape::sphere ? 1 : 2;
-            for (int a = 0; a < used; ++a) {
-                if (!(b.size[a] > 0)) s.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
+            auto shape_of = [](const Section& at) {
+                const std::string shape = at.word("shape", "box", {"box", "sphere", "capsule", "cylinder"});
+                return shape == "sphere"     ? sim::RigidShape::sphere
+                       : shape == "capsule"  ? sim::RigidShape::capsule
+                       : shape == "cylinder" ? sim::RigidShape::cylinder
+                                             : sim::RigidShape::box;
+            };
+            auto size_of = [](const Section& at, sim::RigidShape shape, const sim::Vec3& fallback) {
+                const sim::Vec3 size = at.vec3("size", fallback, "m");
+                const int used = shape == sim::RigidShape::box ? 3 : shape == sim::RigidShape::sphere ? 1 : 2;
+                for (int a = 0; a < used; ++a) {
+                    if (!(size[a] > 0)) at.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
+                }
+                return size;
+            };
+            const auto parts = s.tables("parts", 64);
+            if (!parts.empty() && (s.node("shape") != nullptr || s.node("size") != nullptr))
+                s.fail("parts", "replace shape and size: give one or the other");
+            for (std::size_t p = 0; p < parts.size(); ++p) {
+                const Section ps(r, *parts[p], s.key_path("parts") + "[" + std::to_string(p) + "]");
+                ps.only({"shape", "size", "offset", "rotation", "density"});
+                sim::BodyPart part;
+                part.shape = shape_of(ps);
+                part.size = size_of(ps, part.shape, part.size);
+                part.offset = ps.vec3("offset", part.offset, "m");
+                part.orientation = rotation(ps);
+                part.density = ps.positive("density", part.density, kHuge, "kg/m³");
+                b.parts.push_back(part);
             }
+            b.shape = shape_of(s);
+            if (parts.empty()) b.size = size_of(s, b.shape, b.size);
             if (s.node("mass") != nullptr && s.node("density") != nullptr)
                 s.fail("density", "and mass cannot both be given");
             b.mass = s.node("density") != nullptr ? 0.0 : s.positive("mass", 1.0, kHuge, "kg");
@@ -621,11 +674,39 @@ struct Builder {
             scene.body_names.push_back(name);
             scene.body_colors.push_back(s.color("color", palette(k + 2)));
         }
+        std::vector<const toml::node*> joint_nodes;  // where each joint of m.joints was written
+        const auto ragdolls = top.tables("ragdolls", 1'000);
+        for (std::size_t k = 0; k < ragdolls.size(); ++k) {
+            const Section s(r, *ragdolls[k], "ragdolls[" + std::to_string(k) + "]");
+            s.only({"name", "height", "mass", "position", "rotation", "velocity", "angular_velocity", "joint_friction",
+                    "color"});
+            sim::RagdollDef d;
+            d.height = s.positive("height", d.height, 100.0, "m");
+            d.mass = s.positive("mass", d.mass, kHuge, "kg");
+            d.position = s.vec3("position", d.position, "m");
+            d.orientation = rotation(s);
+            d.velocity = s.vec3("velocity", d.velocity, "m/s");
+            d.angular_velocity = s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s") * kDeg;
+            d.joint_friction = s.number("joint_friction", d.joint_friction, 0.0, kHuge, "N·m");
+            const std::string name = s.string("name", "ragdoll" + std::to_string(k), 64);
+            const render::Color color = s.color("color", palette(k + 5));
+            const sim::RagdollParts made = sim::ragdoll_parts(d, static_cast<int>(m.bodies.size()));
+            for (std::size_t b = 0; b < made.bodies.size(); ++b) {
+                const std::string bone = name + "." + std::string(sim::name(static_cast<sim::RagdollBone>(b)));
+                if (!names.emplace(bone, static_cast<int>(m.bodies.size())).second)
+                    s.fail("name", "must be unique: " + quote(bone) + " is taken");
+                m.bodies.push_back(made.bodies[b]);
+                scene.body_names.push_back(bone);
+                scene.body_colors.push_back(bone_color(color, static_cast<sim::RagdollBone>(b)));
+            }
+            m.joints.insert(m.joints.end(), made.joints.begin(), made.joints.end());
+            joint_nodes.insert(joint_nodes.end(), made.joints.size(), ragdolls[k]);
+        }
         const auto joints = top.tables("joints", 10'000);
         for (std::size_t k = 0; k < joints.size(); ++k) {
             const Section s(r, *joints[k], "joints[" + std::to_string(k) + "]");
-            s.only({"type", "a", "b", "anchor", "axis", "axis2", "lo", "hi", "stop_stiffness", "stop_damping",
-                    "motor_velocity", "motor_max_force"});
+            s.only({"type", "a", "b", "anchor", "axis", "axis2", "lo", "hi", "lo2", "hi2", "lo3", "hi3",
+                    "stop_stiffness", "stop_damping", "motor_velocity", "motor_max_force"});
             sim::RigidJoint j;
             const std::string type = s.word("type", "ball", {"ball", "hinge", "universal", "slider", "fixed"});
             j.joint.type = type == "hinge"       ? sim::JointType::hinge
@@ -653,21 +734,42 @@ struct Builder {
             j.joint.axis2 = unit("axis2", j.joint.axis2);
             const bool angular = j.joint.type != sim::JointType::slider;
             const double scale = angular ? kDeg : 1.0;
-            if (s.node("lo") != nullptr || s.node("hi") != nullptr) {
-                j.joint.lo = s.number("lo", -1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
-                j.joint.hi = s.number("hi", 1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
-                if (j.joint.lo > j.joint.hi) s.fail("hi", "must be >= lo");
-            }
+            auto limits = [&](const char* lo_key, const char* hi_key, double& lo, double& hi) {
+                if (s.node(lo_key) == nullptr && s.node(hi_key) == nullptr) return;
+                lo = s.number(lo_key, -1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
+                hi = s.number(hi_key, 1e300, -1e6, 1e6, angular ? "degrees" : "m") * scale;
+                if (lo > hi) s.fail(hi_key, std::string("must be >= ") + lo_key);
+            };
+            limits("lo", "hi", j.joint.lo, j.joint.hi);
+            limits("lo2", "hi2", j.joint.lo2, j.joint.hi2);
+            limits("lo3", "hi3", j.joint.lo3, j.joint.hi3);
             j.joint.stop_stiffness = s.number("stop_stiffness", 0.0, 0.0, kHuge, angular ? "N·m/rad" : "N/m");
             j.joint.stop_damping = s.number("stop_damping", 0.0, 0.0, kHuge, angular ? "N·m·s/rad" : "N·s/m");
             j.joint.motor_velocity = s.number("motor_velocity", 0.0, -1e6, 1e6, angular ? "deg/s" : "m/s") * scale;
             j.joint.motor_max_force = s.number("motor_max_force", 0.0, 0.0, kHuge, angular ? "N·m" : "N");
             m.joints.push_back(j);
+            joint_nodes.push_back(joints[k]);
+        }
+        // Jointed mass ratios above 10:1 converge slowly in the iterative solver: warn.
+        for (std::size_t k = 0; k < m.joints.size(); ++k) {
+            const sim::RigidJoint& j = m.joints[k];
+            if (j.b < 0) continue;
+            const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
+            const double ma = sim::mass_of(m.bodies[a]), mb = sim::mass_of(m.bodies[b]);
+            const double ratio = std::max(ma, mb) / std::min(ma, mb);
+            if (ratio <= 10.0) continue;
+            std::ostringstream w;
+            w.precision(3);
+            w << r.where(joint_nodes[k]) << ": " << scene.body_names[a] << " (" << ma << " kg) and "
+              << scene.body_names[b] << " (" << mb << " kg) are jointed with a mass ratio of " << ratio
+              << ":1, over 10:1: the iterative solver converges slowly (the joint stretches); "
+                 "raise rigid.iterations or even out the masses";
+            scene.warnings.push_back(w.str());
         }
         if (const toml::table* t = top.subtable("rigid")) {
             const Section s(r, *t, "rigid");
             s.only({"quickstep", "iterations", "friction", "restitution", "bounce_velocity", "erp", "cfm", "ground",
-                    "ground_height", "seed"});
+                    "ground_height", "seed", "sleep", "sleep_speed", "sleep_angular_speed", "sleep_time"});
             sim::RigidSettings& rs = m.settings;
             rs.quickstep = s.boolean("quickstep", rs.quickstep);
             rs.iterations = static_cast<int>(s.integer("iterations", rs.iterations, 1, 10'000));
@@ -679,6 +781,12 @@ struct Builder {
             rs.ground = s.boolean("ground", rs.ground);
             rs.ground_height = s.number("ground_height", rs.ground_height, -1e5, 1e5, "m");
             rs.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
+            rs.sleep = s.boolean("sleep", rs.sleep);
+            rs.sleep_speed = s.positive("sleep_speed", rs.sleep_speed, kHuge, "m/s");
+            rs.sleep_angular_speed = s.positive("sleep_angular_speed", rs.sleep_angular_speed * 180.0 / std::numbers::pi,
+                                                kHuge, "deg/s") *
+                                     kDeg;
+            rs.sleep_time = s.positive("sleep_time", rs.sleep_time, kHuge, "s");
         }
     }
 
@@ -1183,7 +1291,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     const Section top(reader, root, "");
     if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
     top.only({"description", "frames",      "checkpoints", "step",     "particles", "groups", "ropes",
-              "cloths",      "soft_bodies", "emitters",    "bodies",   "joints",    "rigid",  "forces",
+              "cloths",      "soft_bodies", "emitters",    "bodies",   "ragdolls",  "joints",    "rigid",  "forces",
               "constraints", "collisions",  "colliders",   "watchdog", "camera",    "view",   "ghosts"});
     if (top.node("description") == nullptr)
         reader.fail(&root, "description is required: one sentence saying what the scene shows");
@@ -1240,7 +1348,9 @@ std::vector<std::string> SceneDef::systems() const {
     }
     if (springs) out.push_back("springs");
     if (!model.constraints.empty()) out.push_back("constraints");
-    if (!model.collisions.empty()) out.push_back("collisions");
+    // Particles collide with the colliders, each other and the rigid bodies
+    // (bodies meet the colliders inside "rigid").
+    if (!model.particles.empty() && (!model.collisions.empty() || !model.rigid.empty())) out.push_back("collisions");
     if (plastic) out.push_back("plasticity");
     if (!model.emitters.empty()) out.push_back("emitters");
     if (!model.rigid.empty()) out.push_back("rigid");

@@ -123,31 +123,29 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
                           render::Look{render::Color{0.05f, 0.3f, 0.7f, 1.0f}, true}});  // translucent: a ghost
     }
 
-    // Rigid bodies, each at its centre of mass with its shape shifted by -com.
+    // Rigid bodies, part by part where each is now (a body is a part, or a compound of several).
     if (const sim::RigidWorld* rigid = world_.rigid()) {
-        const std::vector<sim::BodyState> states = rigid->body_states();
-        for (std::size_t k = 0; k < states.size(); ++k) {
-            const sim::BodyDef& def = scene_.model.rigid.bodies[k];
-            const Eigen::Quaterniond q = states[k].orientation;
-            const sim::Vec3 center = states[k].position - q * def.com;
-            const render::Look look{scene_.body_colors[k]};
-            switch (def.shape) {
+        for (const sim::PlacedPart& part : rigid->placed_parts()) {
+            const render::Look look{scene_.body_colors[part.body.index]};
+            const Eigen::Quaterniond& q = part.orientation;
+            switch (part.shape) {
                 case sim::RigidShape::box:
                     list.boxes.push_back(
-                        render::Box{to_render(center), to_render(0.5 * def.size), q.cast<float>(), look});
+                        render::Box{to_render(part.center), to_render(0.5 * part.size), q.cast<float>(), look});
                     break;
                 case sim::RigidShape::sphere:
-                    list.spheres.push_back(render::Sphere{to_render(center), static_cast<float>(def.size.x()), look});
+                    list.spheres.push_back(
+                        render::Sphere{to_render(part.center), static_cast<float>(part.size.x()), look});
                     break;
                 case sim::RigidShape::capsule:
                 case sim::RigidShape::cylinder: {
-                    const sim::Vec3 half = q * sim::Vec3(0, 0, 0.5 * def.size.y());
-                    if (def.shape == sim::RigidShape::capsule) {
-                        list.capsules.push_back(render::Capsule{to_render(center - half), to_render(center + half),
-                                                                static_cast<float>(def.size.x()), look});
+                    const sim::Vec3 half = q * sim::Vec3(0, 0, 0.5 * part.size.y());
+                    const render::Vec3 a = to_render(part.center - half), b = to_render(part.center + half);
+                    const auto radius = static_cast<float>(part.size.x());
+                    if (part.shape == sim::RigidShape::capsule) {
+                        list.capsules.push_back(render::Capsule{a, b, radius, look});
                     } else {
-                        list.cylinders.push_back(render::Cylinder{to_render(center - half), to_render(center + half),
-                                                                  static_cast<float>(def.size.x()), look});
+                        list.cylinders.push_back(render::Cylinder{a, b, radius, look});
                     }
                     break;
                 }

@@ -2,6 +2,7 @@
 
 #include "sim/error.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -330,10 +331,11 @@ SurfacePoint surface_point(const Collider& collider, const Vec3& p) {
 }
 
 std::size_t collide(const Collisions& c, ConstVec3Span x0, Vec3Span x, Vec3Span v, const double* radius,
-                    const double* inv_mass, double /*h*/, CollisionScratch& scratch) {
+                    const double* inv_mass, double /*h*/, CollisionScratch& scratch,
+                    const std::vector<MovingCollider>& moving) {
     std::size_t contacts = 0;
     if (c.particle_particle) contacts += collide_pairs(c, x, v, radius, inv_mass, scratch);
-    if (!c.colliders.empty()) {
+    if (!c.colliders.empty() || !moving.empty()) {
         for (std::size_t i = 0; i < x.n; ++i) {
             if (inv_mass[i] == 0.0) continue;
             const Vec3 start = x0.get(i);
@@ -341,6 +343,17 @@ std::size_t collide(const Collisions& c, ConstVec3Span x0, Vec3Span x, Vec3Span 
             bool touched = false;
             for (const Collider& collider : c.colliders) {
                 touched |= collide_static(collider, c, start, p, vel, radius[i]);
+            }
+            for (const MovingCollider& m : moving) {
+                const double reach = m.reach + radius[i];
+                if ((p - m.pivot).squaredNorm() >= reach * reach) continue;
+                // In the collider's frame the surface is still: respond to the relative velocity.
+                const Vec3 surface = m.velocity + m.angular_velocity.cross(p - m.pivot);
+                Vec3 relative = vel - surface;
+                if (collide_static(m.shape, c, p, p, relative, radius[i])) {
+                    vel = relative + surface;
+                    touched = true;
+                }
             }
             if (touched) {
                 x.set(i, p);

@@ -94,11 +94,24 @@ struct CollisionScratch {
     std::size_t contacts = 0;                 // contacts resolved in the last pass
 };
 
+// A collider that moves rigidly (a rigid body's part), for one-way coupling:
+// particles are pushed out of it and bounce off its moving surface, it feels
+// nothing. Its surface moves at velocity + angular_velocity × (p - pivot).
+struct MovingCollider {
+    Collider shape;                        // where it is now (a sphere, box or capsule)
+    Vec3 velocity = Vec3::Zero();          // m/s, of the pivot
+    Vec3 angular_velocity = Vec3::Zero();  // rad/s
+    Vec3 pivot = Vec3::Zero();             // m, the body's centre of mass
+    double reach = 0.0;                    // m, a sphere about pivot that holds the shape (a quick reject)
+};
+
 // Resolves every contact of the particles after a substep of h: x0 are the
 // positions before the substep, x and v the positions and velocities after
 // it (changed in place), radius and inv_mass per particle (inverse mass 0:
-// pinned, never moved). Returns the number of contacts.
+// pinned, never moved), and `moving` the moving colliders (no continuous
+// detection: resolved at x). Returns the number of contacts.
 std::size_t collide(const Collisions& collisions, ConstVec3Span x0, Vec3Span x, Vec3Span v, const double* radius,
-                    const double* inv_mass, double h, CollisionScratch& scratch);
+                    const double* inv_mass, double h, CollisionScratch& scratch,
+                    const std::vector<MovingCollider>& moving = {});
 
 }  // namespace sim

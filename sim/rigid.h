@@ -14,6 +14,7 @@
 // alone.
 #pragma once
 
+#include "sim/collisions.h"
 #include "sim/vec3_array.h"
 
 #include <Eigen/Geometry>
@@ -33,23 +34,40 @@ struct BodyId {
 
 enum class RigidShape { box, sphere, capsule, cylinder };
 
-// A body as a scene describes it. Mass comes from `mass` if > 0, else from
-// `density` and the shape's volume; the inertia tensor from the shape.
+// One solid piece of a compound body (a T-handle's bar, a hammer's head),
+// placed in the body's shape frame. Its mass counts in proportion to its
+// volume times `density`.
+struct BodyPart {
+    RigidShape shape = RigidShape::box;
+    Vec3 size = Vec3(0.5, 0.5, 0.5);  // m, as BodyDef::size
+    Vec3 offset = Vec3::Zero();       // m, of the part's centre in the shape frame
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // of the part in the shape frame
+    double density = 1000.0;                                          // kg/m³ (> 0)
+};
+
+// A body as a scene describes it: one shape, or (when `parts` is not empty)
+// a compound of parts. Mass comes from `mass` if > 0 (the parts keep their
+// density ratios), else from the densities and volumes; the inertia tensor
+// from the shapes (parallel axis theorem for the parts).
 struct BodyDef {
     RigidShape shape = RigidShape::box;
     // box: full extents along x, y, z; sphere: radius = size.x; capsule and
     // cylinder: radius = size.x, length = size.y of the straight part, along
     // the body's local z (ODE's convention).
     Vec3 size = Vec3(0.5, 0.5, 0.5);  // m
+    std::vector<BodyPart> parts;      // a compound body: shape and size are ignored
     double mass = 1.0;                // kg (> 0), or 0 to use density
     double density = 1000.0;          // kg/m³ (> 0), when mass is 0
     Vec3 position = Vec3::Zero();     // m, of the centre of mass
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
     Vec3 velocity = Vec3::Zero();          // m/s
     Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
-    // Where the centre of mass sits in the shape's own frame (the lecture:
-    // the barycenter need not be the local origin). The body's origin is its
-    // centre of mass; the geometry is drawn and collides shifted by -com.
+    // A shift of the centre of mass from where the shapes' uniform density
+    // puts it (the shape frame's origin for one shape; the mass-weighted mean
+    // of the parts' centres for a compound), in the shape frame: a ballast.
+    // The body's origin is its centre of mass (the lecture: the barycenter
+    // need not be the local origin); the geometry is drawn and collides
+    // shifted accordingly.
     Vec3 com = Vec3::Zero();  // m
 };
 
@@ -65,11 +83,22 @@ struct RigidSettings {
     bool ground = true;                // a static plane y = ground_height
     double ground_height = 0.0;        // m
     std::uint64_t seed = 1;            // for quickstep's constraint order
+    // Sleep (Box2D's and ODE's auto-disable): a group of bodies held together
+    // by joints (a whole ragdoll at once) whose every body has moved slower
+    // than both speeds for sleep_time is disabled: not stepped, not counted as
+    // moving, until a contact or an awake jointed body wakes it.
+    bool sleep = true;
+    double sleep_speed = 0.05;          // m/s
+    double sleep_angular_speed = 0.15;  // rad/s
+    double sleep_time = 0.5;            // s
 };
 
 // Throws InputError naming the field ("rigid.iterations must be ...").
 void validate(const RigidSettings& settings);
 void validate(const BodyDef& body);
+
+// The body's mass, kg: `mass`, or the parts' densities times their volumes.
+double mass_of(const BodyDef& body);
 
 // Joints between two bodies (or a body and the world: b invalid).
 struct JointId {
@@ -94,8 +123,20 @@ struct JointDef {
     double lo = 1.0, hi = -1.0;
     double stop_stiffness = 0.0;  // 0: ODE's rigid stops (world ERP, no CFM)
     double stop_damping = 0.0;
+    // Universal joints: limits on axis2 (rad). Ball joints: swing and twist
+    // limits through an angular motor (ODE's AMotor in Euler mode), with
+    // `axis` fixed in body a and `axis2` fixed in body b (the twist axis, along
+    // b's bone), perpendicular at creation: [lo, hi] bounds the rotation
+    // about `axis`, [lo2, hi2] the rotation about axis2 × axis (within
+    // ±90°: the swing region is a box in these two angles, not a round
+    // cone), [lo3, hi3] the twist about axis2. Limits on a ball joint need
+    // body b.
+    double lo2 = 1.0, hi2 = -1.0;
+    double lo3 = 1.0, hi3 = -1.0;
     // A velocity motor on the (first) axis: rad/s or m/s, up to max_force
-    // (N·m or N); max_force 0 is no motor. A motor with velocity 0 is joint friction.
+    // (N·m or N); max_force 0 is no motor. A motor with velocity 0 is joint
+    // friction. On a universal joint and a limited ball joint the other axes
+    // get the same max force at velocity 0: friction.
     double motor_velocity = 0.0;
     double motor_max_force = 0.0;
 };
@@ -114,6 +155,18 @@ struct BodyState {
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
     Vec3 velocity = Vec3::Zero();          // m/s
     Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
+    bool awake = true;                     // false: asleep (RigidSettings::sleep)
+    std::uint32_t idle_steps = 0;          // steps in a row below the sleep speeds
+};
+
+// A body's piece where it is now: for drawing, and for particles colliding
+// with bodies. size is as BodyDef::size.
+struct PlacedPart {
+    BodyId body;
+    RigidShape shape = RigidShape::box;
+    Vec3 size = Vec3::Zero();  // m
+    Vec3 center = Vec3::Zero();  // m, world frame
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
 // What a scene's rigid part is: settings, bodies, and joints naming bodies
@@ -130,6 +183,13 @@ struct RigidModel {
     bool empty() const { return bodies.empty(); }
 };
 
+// A jointed pair's mass ratio, heavier / lighter: above about 10 the
+// iterative solver converges slowly on it (a chain under a heavy ball stretches).
+struct MassRatio {
+    JointId joint;
+    double ratio = 1.0;
+};
+
 class RigidWorld {
 public:
     explicit RigidWorld(const RigidSettings& settings = {});
@@ -140,6 +200,9 @@ public:
     RigidWorld& operator=(const RigidWorld&) = delete;
 
     BodyId add_body(const BodyDef& body);  // validates (InputError)
+    // Static geometry: bodies collide with it, it never moves. Used for the
+    // scene's particle colliders, so one static world serves both.
+    void add_static(const Collider& collider);
     void remove_body(BodyId id);           // InputError for a stale id
     bool alive(BodyId id) const;
     std::size_t body_count() const;
@@ -159,6 +222,12 @@ public:
     BodyState state(BodyId id) const;          // InputError for a stale id
     double mass(BodyId id) const;              // kg
     Eigen::Matrix3d inertia(BodyId id) const;  // kg·m², body frame, about the centre of mass
+    bool awake(BodyId id) const;
+    std::size_t awake_count() const;
+    // Every jointed pair with a mass ratio above `limit`, worst first.
+    std::vector<MassRatio> mass_ratios_above(double limit) const;
+    // Every part of every live body, in body index order.
+    std::vector<PlacedPart> placed_parts() const;
     double kinetic_energy() const;             // J, ½ m v² + ½ ωᵀ I ω over all bodies
     double potential_energy() const;           // J, -m g·x over all bodies
     // FNV-1a over every live body's position, orientation and velocities.

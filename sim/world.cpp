@@ -48,7 +48,11 @@ World::World(ParticleModel model)
             for (const Spring& sp : springs->list) rest0_[k].push_back(sp.rest);
         }
     }
-    if (!model_.rigid.empty()) rigid_ = std::make_unique<RigidWorld>(model_.rigid);
+    if (!model_.rigid.empty()) {
+        rigid_ = std::make_unique<RigidWorld>(model_.rigid);
+        // One static world: what particles collide with, bodies collide with too.
+        for (const Collider& c : model_.collisions.colliders) rigid_->add_static(c);
+    }
     radius_.reserve(model_.particles.size());
     for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
     initial_energy_ = energy();
@@ -118,7 +122,8 @@ void World::step(const StepSettings& settings) {
     using Clock = std::chrono::steady_clock;
     const double h = settings.dt / settings.substeps;
     const bool constrained = !model_.constraints.empty();
-    const bool colliding = !model_.collisions.empty();
+    // Particles collide with the colliders, each other, and (one way) the rigid bodies.
+    const bool colliding = !model_.collisions.empty() || (rigid_ && state_.size() > 0);
     const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
     // Runs one stage and adds its wall time to `total` (the per-system times).
     auto timed = [](double& total, auto&& stage) {
@@ -138,8 +143,9 @@ void World::step(const StepSettings& settings) {
         if (constrained) timed(times_.constraints, [&] { solve_constraints(h); });
         if (colliding) {
             timed(times_.collisions, [&] {
+                if (rigid_) update_body_colliders();
                 if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
-                            state_.inv_mass.data(), h, collision_scratch_) > 0) {
+                            state_.inv_mass.data(), h, collision_scratch_, body_colliders_) > 0) {
                     memory_valid_ = false;  // positions and velocities were edited
                 }
             });
@@ -147,6 +153,33 @@ void World::step(const StepSettings& settings) {
         if (plastic) timed(times_.plasticity, [&] { plasticity(h); });
         if (rigid_) timed(times_.rigid, [&] { rigid_->step(h); });
         if (watchdog_.enabled) timed(times_.watchdog, [&] { watch(); });
+    }
+}
+
+void World::update_body_colliders() {
+    body_colliders_.clear();
+    for (const PlacedPart& part : rigid_->placed_parts()) {
+        const BodyState body = rigid_->state(part.body);
+        MovingCollider m{SphereCollider{part.center, part.size.x()}, body.velocity, body.angular_velocity,
+                         body.position, 0.0};
+        double bound = part.size.x();  // m, the part's extent from its centre
+        switch (part.shape) {
+            case RigidShape::sphere:
+                break;
+            case RigidShape::box:
+                m.shape = BoxCollider{part.center, 0.5 * part.size, part.orientation.toRotationMatrix()};
+                bound = 0.5 * part.size.norm();
+                break;
+            case RigidShape::capsule:
+            case RigidShape::cylinder: {  // a cylinder collides with particles as the capsule around it
+                const Vec3 half = part.orientation * Vec3(0, 0, 0.5 * part.size.y());
+                m.shape = CapsuleCollider{part.center - half, part.center + half, part.size.x()};
+                bound = 0.5 * part.size.y() + part.size.x();
+                break;
+            }
+        }
+        m.reach = (part.center - body.position).norm() + bound;
+        body_colliders_.push_back(m);
     }
 }
 

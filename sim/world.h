@@ -53,7 +53,7 @@ public:
 
     // Advances one frame step: settings.substeps substeps of
     // settings.dt / settings.substeps, each the stages
-    //   emit -> forces + integrate -> constraints -> collisions -> plasticity -> watchdog
+    //   emit -> forces + integrate -> constraints -> collisions -> plasticity -> rigid -> watchdog
     // (a stage the model does not use costs nothing). Throws InputError for
     // bad settings. Once the watchdog has a verdict, does nothing.
     void step(const StepSettings& settings);
@@ -137,6 +137,7 @@ private:
     void solve_constraints(double h);  // positions projected, velocities corrected
     void plasticity(double h);
     void watch();  // the watchdog after a substep, containing what it may
+    void update_body_colliders();  // the rigid bodies' parts where they are now, for the particles
 
     ParticleModel model_;
     ParticleState state_;
@@ -149,6 +150,7 @@ private:
     std::vector<double> lambda_;  // XPBD multipliers of the substep
     CollisionScratch collision_scratch_;
     std::unique_ptr<RigidWorld> rigid_;
+    std::vector<MovingCollider> body_colliders_;  // rebuilt before each collision pass
 
     // Integrator memory and scratch (see StepArrays).
     Vec3Array memory_a_;
