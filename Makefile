@@ -44,6 +44,7 @@ demo: build
 bench: build
 	build/bench_sim --benchmark_counters_tabular=true
 	build/bench_mass_spring --benchmark_counters_tabular=true
+	build/bench_rigid --benchmark_counters_tabular=true
 	build/bench_render --benchmark_counters_tabular=true
 
 test-sanitize: deps

@@ -45,7 +45,7 @@ private:
 
 Vec3 to_vec(const dReal* v) { return {v[0], v[1], v[2]}; }
 
-constexpr int kMaxContacts = 8;  // per colliding pair of geoms
+constexpr int kMaxContacts = 4;  // per colliding pair of geoms
 
 }  // namespace
 
