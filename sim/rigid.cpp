@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
+#include <cstdio>
 #include <cstring>
-#include <type_traits>
-#include <variant>
 #include <mutex>
 #include <numbers>
+#include <type_traits>
+#include <variant>
 
 namespace sim {
 
@@ -18,11 +20,38 @@ namespace {
 
 // ODE's init/close, reference-counted: the first world initialises the
 // library, the last one closes it.
+// ODE's messages (not errors: an error or debug message aborts) go to the
+// world stepping on this thread, else to stderr.
+struct SolverMessages {
+    struct Said {
+        std::string text;  // the first, formatted
+        int times = 0;
+    };
+    std::vector<std::pair<std::string, Said>> by_format;  // in order first said
+};
+thread_local SolverMessages* g_stepping = nullptr;
+
+void on_ode_message(int number, const char* format, va_list args) {
+    char text[512];
+    std::vsnprintf(text, sizeof text, format, args);
+    if (g_stepping == nullptr) {
+        std::fprintf(stderr, "ODE message %d: %s\n", number, text);
+        return;
+    }
+    auto& list = g_stepping->by_format;
+    auto it = std::find_if(list.begin(), list.end(), [&](const auto& e) { return e.first == format; });
+    if (it == list.end()) it = list.insert(list.end(), {format, {text, 0}});
+    ++it->second.times;
+}
+
 class OdeLibrary {
 public:
     OdeLibrary() {
         const std::lock_guard lock(mutex());
-        if (count()++ == 0) dInitODE2(0);
+        if (count()++ == 0) {
+            dInitODE2(0);
+            dSetMessageHandler(&on_ode_message);
+        }
         dAllocateODEDataForThread(dAllocateMaskAll);
     }
     ~OdeLibrary() {
@@ -64,15 +93,16 @@ void validate(const RigidSettings& s) {
     require_nonnegative(s.cfm, "rigid.cfm", "");
     if (!std::isfinite(s.ground_height)) throw InputError("rigid.ground_height must be finite, in m");
     require_positive(s.sleep_speed, "rigid.sleep_speed", "m/s");
-    require_positive(s.sleep_angular_speed, "rigid.sleep_angular_speed", "rad/s");
     require_positive(s.sleep_time, "rigid.sleep_time", "s");
+    if (s.position_iterations < 0 || s.position_iterations > 100) {
+        throw InputError("rigid.position_iterations must be within 0 .. 100 (got " +
+                         std::to_string(s.position_iterations) + ")");
+    }
 }
 
 namespace {
 
-int size_components(RigidShape shape) {
-    return shape == RigidShape::box ? 3 : shape == RigidShape::sphere ? 1 : 2;
-}
+int size_components(RigidShape shape) { return shape == RigidShape::box ? 3 : shape == RigidShape::sphere ? 1 : 2; }
 
 void require_unit(const Eigen::Quaterniond& q, const std::string& name) {
     if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6) {
@@ -117,8 +147,12 @@ struct RigidWorld::Impl {
         std::vector<dGeomID> geoms;   // one per part
         std::vector<BodyPart> parts;  // offsets from the centre of mass, body frame
         std::uint32_t generation = 0;
-        std::uint32_t idle_steps = 0;  // steps in a row below the sleep speeds
-        bool asleep = false;           // disabled by sleep (ODE may wake it)
+        double mass = 1.0;                                          // kg
+        Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();      // kg·m², body frame
+        Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Identity();  // its inverse
+        std::uint32_t idle_steps = 0;                               // its group's steps in a row under the sleep energy
+        double sleep_energy = 0.0;  // J/kg, its group's smoothed kinetic energy per kilogram
+        bool asleep = false;        // disabled by sleep (ODE may wake it)
     };
     std::vector<Slot> slots;
     std::vector<std::uint32_t> free_slots;
@@ -133,7 +167,10 @@ struct RigidWorld::Impl {
     double stops_h = 0.0;  // the step the stop ERP/CFM were computed for
     std::uint64_t steps = 0;
     std::size_t contacts = 0;
-    std::vector<std::uint32_t> group_of;  // sleep: union-find parents over body slots
+    SolverMessages messages;
+    std::vector<std::uint32_t> group_of;           // union-find parents over body slots: jointed groups
+    std::vector<double> group_energy, group_mass;  // sleep's scratch, by group root
+    std::vector<char> group_woken;
 
     const Slot& slot(BodyId id) const {
         if (id.index >= slots.size() || slots[id.index].body == nullptr ||
@@ -189,6 +226,30 @@ struct RigidWorld::Impl {
         }
     }
 
+    static std::uint32_t index_of(dBodyID body) {
+        return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(dBodyGetData(body)));
+    }
+
+    // Bodies one or two joints apart do not collide (parent and child,
+    // grandparent and grandchild, siblings): in a ragdoll their shapes meet
+    // at every joint and the contacts fight the joints, so that a ragdoll
+    // at rest creeps and never sleeps (Jolt's ragdolls filter the same
+    // pairs). Farther bodies (a hand and a thigh) collide.
+    static bool jointed_within_two(dBodyID a, dBodyID b) {
+        if (dAreConnectedExcluding(a, b, dJointTypeContact)) return true;
+        const int n = dBodyGetNumJoints(a);
+        for (int k = 0; k < n; ++k) {
+            const dJointID j = dBodyGetJoint(a, k);
+            if (dJointGetType(j) == dJointTypeContact) continue;
+            for (int side = 0; side < 2; ++side) {
+                const dBodyID middle = dJointGetBody(j, side);
+                if (middle != nullptr && middle != a && dAreConnectedExcluding(middle, b, dJointTypeContact))
+                    return true;
+            }
+        }
+        return false;
+    }
+
     // ODE's broad phase calls this for each pair of geoms whose boxes overlap.
     static void near_callback(void* data, dGeomID a, dGeomID b) {
         auto* self = static_cast<Impl*>(data);
@@ -198,9 +259,28 @@ struct RigidWorld::Impl {
         const bool moving_a = ba != nullptr && dBodyIsEnabled(ba), moving_b = bb != nullptr && dBodyIsEnabled(bb);
         if (!moving_a && !moving_b) return;
         if (ba == bb) return;  // parts of one compound body
-        if (ba != nullptr && bb != nullptr && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
+        if (ba != nullptr && bb != nullptr) {
+            if (self->settings.self_collision ? jointed_within_two(ba, bb)
+                                              : self->group_of[index_of(ba)] == self->group_of[index_of(bb)]) {
+                return;
+            }
+        }
         dContact contact[kMaxContacts];
         const int n = dCollide(a, b, kMaxContacts, &contact[0].geom, sizeof(dContact));
+        if (n == 0) return;
+        // An awake body touching a sleeping one: a gentle touch (the awake
+        // body itself slow enough to sleep) meets the sleeper as static
+        // ground, so that the solver's jitter in a pile does not wake what
+        // has settled, over and over; a real blow wakes it (and, through
+        // its joints, its whole group).
+        if (moving_a != moving_b && ba != nullptr && bb != nullptr) {
+            const dBodyID awake = moving_a ? ba : bb, asleep = moving_a ? bb : ba;
+            if (self->slow(awake)) {
+                (moving_a ? bb : ba) = nullptr;
+            } else {
+                dBodyEnable(asleep);
+            }
+        }
         for (int i = 0; i < n; ++i) {
             dSurfaceParameters& s = contact[i].surface;
             s.mode = dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM;
@@ -215,46 +295,188 @@ struct RigidWorld::Impl {
         }
     }
 
+    // ω over h by RK4 on Euler's torque-free equations in the body frame,
+    // I ω̇ = -ω × I ω (see RigidSettings::gyroscopic_rk4).
+    void gyroscopic(double h) {
+        for (Slot& s : slots) {
+            if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
+            const dReal* q = dBodyGetQuaternion(s.body);
+            const Eigen::Matrix3d R = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+            const Vec3 w0 = R.transpose() * to_vec(dBodyGetAngularVel(s.body));
+            auto f = [&](const Vec3& w) -> Vec3 { return -(s.inv_inertia * w.cross(s.inertia * w)); };
+            const Vec3 k1 = f(w0);
+            const Vec3 k2 = f(w0 + 0.5 * h * k1);
+            const Vec3 k3 = f(w0 + 0.5 * h * k2);
+            const Vec3 k4 = f(w0 + h * k3);
+            const Vec3 w = R * (w0 + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
+            dBodySetAngularVel(s.body, w.x(), w.y(), w.z());
+        }
+    }
+
+    // Where a joint's anchor is on each of its bodies, world frame, m.
+    static bool anchors(const JointSlot& js, Vec3& p1, Vec3& p2) {
+        dVector3 a, b;
+        switch (js.def.type) {
+            case JointType::ball:
+                dJointGetBallAnchor(js.joint, a);
+                dJointGetBallAnchor2(js.joint, b);
+                break;
+            case JointType::hinge:
+                dJointGetHingeAnchor(js.joint, a);
+                dJointGetHingeAnchor2(js.joint, b);
+                break;
+            case JointType::universal:
+                dJointGetUniversalAnchor(js.joint, a);
+                dJointGetUniversalAnchor2(js.joint, b);
+                break;
+            default:
+                return false;
+        }
+        p1 = to_vec(a);
+        p2 = to_vec(b);
+        return true;
+    }
+
+    // Position iterations (RigidSettings::position_iterations): for each
+    // joint, the anchor gap C = |p2 - p1| along n is closed by a positional
+    // impulse λ = C / (w1 + w2), with each body's generalised inverse mass
+    // w = 1/m + (r × n)ᵀ I⁻¹ (r × n) (r: from its centre of mass to its
+    // anchor): x += λ n / m, and a rotation I⁻¹ (r × λ n) applied to its
+    // quaternion. A body asleep or the static world does not move.
+    void stabilize() {
+        struct Side {
+            dBodyID body = nullptr;
+            double inv_mass = 0.0;
+            Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Zero();  // world frame
+            Vec3 x = Vec3::Zero();
+            Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+        };
+        auto side = [&](BodyId id) {
+            Side s;
+            if (id == BodyId{}) return s;
+            const Slot& slot = slots[id.index];
+            if (!dBodyIsEnabled(slot.body)) return s;
+            s.body = slot.body;
+            dMass m;
+            dBodyGetMass(slot.body, &m);
+            s.inv_mass = 1.0 / m.mass;
+            s.x = to_vec(dBodyGetPosition(slot.body));
+            const dReal* q = dBodyGetQuaternion(slot.body);
+            s.q = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+            const Eigen::Matrix3d R = s.q.toRotationMatrix();
+            s.inv_inertia = R * slot.inv_inertia * R.transpose();
+            return s;
+        };
+        auto move = [](const Side& s, const Vec3& impulse, const Vec3& r) {
+            if (s.body == nullptr) return;
+            const Vec3 x = s.x + s.inv_mass * impulse;
+            const Vec3 dtheta = s.inv_inertia * r.cross(impulse);
+            Eigen::Quaterniond q = s.q;
+            const Eigen::Quaterniond spin(0.0, dtheta.x(), dtheta.y(), dtheta.z());
+            q.coeffs() += 0.5 * (spin * s.q).coeffs();
+            q.normalize();
+            dBodySetPosition(s.body, x.x(), x.y(), x.z());
+            const dQuaternion oq = {q.w(), q.x(), q.y(), q.z()};
+            dBodySetQuaternion(s.body, oq);
+        };
+        for (int it = 0; it < settings.position_iterations; ++it) {
+            for (const JointSlot& js : joints) {
+                Vec3 p1, p2;
+                if (js.joint == nullptr || !anchors(js, p1, p2)) continue;
+                const Vec3 gap = p2 - p1;
+                const double c = gap.norm();
+                if (c < 1e-12) continue;
+                const Vec3 n = gap / c;
+                const Side a = side(js.def.a), b = side(js.def.b);
+                if (a.body == nullptr && b.body == nullptr) continue;
+                const Vec3 ra = p1 - a.x, rb = p2 - b.x;
+                const Vec3 ca = ra.cross(n), cb = rb.cross(n);
+                const double w = a.inv_mass + ca.dot(a.inv_inertia * ca) + b.inv_mass + cb.dot(b.inv_inertia * cb);
+                const Vec3 impulse = (c / w) * n;
+                move(a, impulse, ra);
+                move(b, -impulse, rb);
+            }
+        }
+    }
+
+    // Slow enough to fall asleep: the body's group within twice the sleep
+    // speed (a margin for the solver's jitter).
+    bool slow(dBodyID body) const {
+        const double v = 2.0 * settings.sleep_speed;
+        return slots[index_of(body)].sleep_energy <= 0.5 * v * v;
+    }
+
     std::uint32_t find(std::uint32_t i) {
         while (group_of[i] != i) i = group_of[i] = group_of[group_of[i]];
         return i;
     }
 
-    // Sleep: count each body's quiet steps; a group of jointed bodies whose
-    // every body has been quiet for sleep_time is disabled at rest. A body
-    // that ODE re-enabled (a contact or a joint to an awake body) starts
-    // counting again.
-    void sleep(double h) {
-        const double ls2 = settings.sleep_speed * settings.sleep_speed;
-        const double as2 = settings.sleep_angular_speed * settings.sleep_angular_speed;
-        const auto needed = static_cast<std::uint32_t>(std::ceil(settings.sleep_time / h));
+    // The groups of bodies joined by joints (a ragdoll, a chain): union-find
+    // over the body slots, rebuilt every step (joints come and go).
+    void build_groups() {
         group_of.resize(slots.size());
-        for (std::uint32_t i = 0; i < slots.size(); ++i) {
-            group_of[i] = i;
-            Slot& s = slots[i];
-            if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
-            if (s.asleep) {  // woken by ODE
-                s.asleep = false;
-                s.idle_steps = 0;
-            }
-            const bool quiet = to_vec(dBodyGetLinearVel(s.body)).squaredNorm() < ls2 &&
-                               to_vec(dBodyGetAngularVel(s.body)).squaredNorm() < as2;
-            s.idle_steps = quiet ? s.idle_steps + 1 : 0;
-        }
+        for (std::uint32_t i = 0; i < slots.size(); ++i) group_of[i] = i;
         for (const JointSlot& js : joints) {
             if (js.joint == nullptr || js.def.b == BodyId{}) continue;
             const std::uint32_t ra = find(js.def.a.index), rb = find(js.def.b.index);
             group_of[std::max(ra, rb)] = std::min(ra, rb);
         }
-        // A group sleeps when none of its awake bodies is short of `needed`.
-        std::vector<char> stays_awake(slots.size(), 0);
+        for (std::uint32_t i = 0; i < slots.size(); ++i) find(i);  // flatten: group_of[i] is the root
+    }
+
+    // Kinetic energy of a body, ½ m v² + ½ ωᵀ I ω (J).
+    double kinetic(const Slot& s) const {
+        const dReal* q = dBodyGetQuaternion(s.body);
+        const Eigen::Matrix3d R = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+        const Vec3 w = R.transpose() * to_vec(dBodyGetAngularVel(s.body));
+        return 0.5 * s.mass * to_vec(dBodyGetLinearVel(s.body)).squaredNorm() + 0.5 * w.dot(s.inertia * w);
+    }
+
+    // Sleep (PhysX's criterion for articulations): a group of jointed bodies
+    // is idle while its kinetic energy per kilogram, smoothed over a quarter
+    // of sleep_time, stays under ½ sleep_speed² (an RMS speed): the mass
+    // weights it, so a light hand jittering in a pile (the iterative solver's
+    // noise, which never stops) does not keep a 70 kg ragdoll awake, and the
+    // smoothing lets one noisy step pass. A group idle for sleep_time is
+    // disabled at rest. A group that ODE re-enabled (a contact, a joint to an
+    // awake body) starts again. Each body keeps its group's figures, so that
+    // body_states() carries them.
+    void sleep(double h) {
+        const double limit = 0.5 * settings.sleep_speed * settings.sleep_speed;  // J/kg
+        const double blend = std::min(1.0, h / (0.25 * settings.sleep_time));
+        const auto needed = static_cast<std::uint32_t>(std::ceil(settings.sleep_time / h));
+        group_energy.assign(slots.size(), 0.0);
+        group_mass.assign(slots.size(), 0.0);
+        group_woken.assign(slots.size(), 0);
         for (std::uint32_t i = 0; i < slots.size(); ++i) {
-            const Slot& s = slots[i];
-            if (s.body != nullptr && !s.asleep && s.idle_steps < needed) stays_awake[find(i)] = 1;
+            Slot& s = slots[i];
+            if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
+            const std::uint32_t root = find(i);
+            group_energy[root] += kinetic(s);
+            group_mass[root] += s.mass;
+            if (s.asleep) group_woken[root] = 1;
+            s.asleep = false;
         }
         for (std::uint32_t i = 0; i < slots.size(); ++i) {
             Slot& s = slots[i];
-            if (s.body == nullptr || s.asleep || stays_awake[find(i)]) continue;
+            if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
+            const std::uint32_t root = find(i);
+            if (root == i) {
+                const double e = group_energy[root] / group_mass[root];
+                if (group_woken[root] != 0) {
+                    s.sleep_energy = e;
+                    s.idle_steps = 0;
+                } else {
+                    s.sleep_energy += blend * (e - s.sleep_energy);
+                    s.idle_steps = s.sleep_energy <= limit ? s.idle_steps + 1 : 0;
+                }
+            } else {
+                s.sleep_energy = slots[root].sleep_energy;
+                s.idle_steps = slots[root].idle_steps;
+            }
+        }
+        for (Slot& s : slots) {
+            if (s.body == nullptr || !dBodyIsEnabled(s.body) || s.idle_steps < needed) continue;
             dBodySetLinearVel(s.body, 0, 0, 0);
             dBodySetAngularVel(s.body, 0, 0, 0);
             dBodyDisable(s.body);
@@ -390,16 +612,20 @@ BodyId RigidWorld::add_body(const BodyDef& def) {
     // Moved so that the centre of mass is the body's origin (ODE requires it there).
     const Vec3 centroid(mass.c[0], mass.c[1], mass.c[2]);
     dMassTranslate(&mass, -centroid.x(), -centroid.y(), -centroid.z());  // inertia about the centroid
-    const Vec3 com = centroid + def.com;  // the ballast shift keeps that inertia
+    const Vec3 com = centroid + def.com;                                 // the ballast shift keeps that inertia
 
     dBodyID body = dBodyCreate(m.world);
     dBodySetMass(body, &mass);
+    const std::uint32_t index = m.free_slots.empty() ? static_cast<std::uint32_t>(m.slots.size()) : m.free_slots.back();
+    dBodySetData(body, reinterpret_cast<void*>(static_cast<std::uintptr_t>(index)));  // its slot, for the collider
+    if (m.settings.gyroscopic_rk4) dBodySetGyroscopicMode(body, 0);                   // done before each step instead
     std::vector<dGeomID> geoms;
     for (BodyPart& part : parts) {
         part.offset -= com;  // from now on relative to the centre of mass
         dGeomID geom = create_geom(m.space, part.shape, part.size);
         dGeomSetBody(geom, body);
-        if (part.offset != Vec3::Zero()) dGeomSetOffsetPosition(geom, part.offset.x(), part.offset.y(), part.offset.z());
+        if (part.offset != Vec3::Zero())
+            dGeomSetOffsetPosition(geom, part.offset.x(), part.offset.y(), part.offset.z());
         if (part.orientation.coeffs() != Eigen::Quaterniond::Identity().coeffs()) {
             dQuaternion q;
             to_ode(part.orientation, q);
@@ -414,12 +640,9 @@ BodyId RigidWorld::add_body(const BodyDef& def) {
     dBodySetLinearVel(body, def.velocity.x(), def.velocity.y(), def.velocity.z());
     dBodySetAngularVel(body, def.angular_velocity.x(), def.angular_velocity.y(), def.angular_velocity.z());
 
-    std::uint32_t index;
     if (!m.free_slots.empty()) {
-        index = m.free_slots.back();
         m.free_slots.pop_back();
     } else {
-        index = static_cast<std::uint32_t>(m.slots.size());
         m.slots.emplace_back();
     }
     Impl::Slot& s = m.slots[index];
@@ -427,7 +650,13 @@ BodyId RigidWorld::add_body(const BodyDef& def) {
     s.geoms = std::move(geoms);
     s.parts = std::move(parts);
     s.idle_steps = 0;
+    s.sleep_energy = 0.0;
     s.asleep = false;
+    s.mass = mass.mass;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) s.inertia(r, c) = mass.I[4 * r + c];  // dMatrix3 rows are padded to 4
+    }
+    s.inv_inertia = s.inertia.inverse();
     return {index, s.generation};
 }
 
@@ -493,16 +722,29 @@ void RigidWorld::step(double dt) {
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));
     m.update_stops(dt);
+    if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
     m.contacts = 0;
+    m.build_groups();
     dSpaceCollide(m.space, &m, &Impl::near_callback);
+    g_stepping = &m.messages;
     if (m.settings.quickstep) {
         dWorldQuickStep(m.world, dt);
     } else {
         dWorldStep(m.world, dt);
     }
+    g_stepping = nullptr;
     dJointGroupEmpty(m.contact_group);
+    if (m.settings.position_iterations > 0) m.stabilize();
     if (m.settings.sleep) m.sleep(dt);
     ++m.steps;
+}
+
+std::vector<std::string> RigidWorld::solver_messages() const {
+    std::vector<std::string> out;
+    for (const auto& [format, said] : impl_->messages.by_format) {
+        out.push_back(said.times == 1 ? said.text : said.text + " (" + std::to_string(said.times) + " times)");
+    }
+    return out;
 }
 
 ErpCfm erp_cfm(double h, double kp, double kd) {
@@ -519,9 +761,11 @@ JointId RigidWorld::add_joint(const JointDef& def) {
         if (!axis->allFinite() || std::abs(axis->norm() - 1.0) > 1e-6)
             throw InputError("joint.axis must be a unit vector");
     }
-    const bool ball_limits = def.type == JointType::ball && (def.lo <= def.hi || def.lo2 <= def.hi2 || def.lo3 <= def.hi3);
+    const bool ball_limits =
+        def.type == JointType::ball && (def.lo <= def.hi || def.lo2 <= def.hi2 || def.lo3 <= def.hi3);
     if ((def.type == JointType::universal || ball_limits) && std::abs(def.axis.dot(def.axis2)) > 1e-6) {
-        throw InputError("joint.axis2 must be perpendicular to joint.axis for a universal joint or a limited ball joint");
+        throw InputError(
+            "joint.axis2 must be perpendicular to joint.axis for a universal joint or a limited ball joint");
     }
     if (ball_limits) {
         if (b == nullptr) throw InputError("a ball joint's swing and twist limits need a second body (joint.b)");
@@ -662,6 +906,7 @@ BodyState RigidWorld::state(BodyId id) const {
     s.angular_velocity = to_vec(dBodyGetAngularVel(b));
     s.awake = dBodyIsEnabled(b) != 0;
     s.idle_steps = impl_->slots[id.index].idle_steps;
+    s.sleep_energy = impl_->slots[id.index].sleep_energy;
     return s;
 }
 
@@ -796,6 +1041,7 @@ void RigidWorld::set_body_states(const std::vector<BodyState>& states, std::uint
         }
         impl_->slots[ids[k].index].asleep = !s.awake;
         impl_->slots[ids[k].index].idle_steps = s.idle_steps;
+        impl_->slots[ids[k].index].sleep_energy = s.sleep_energy;
     }
     impl_->steps = steps;
 }

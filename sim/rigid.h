@@ -39,8 +39,8 @@ enum class RigidShape { box, sphere, capsule, cylinder };
 // volume times `density`.
 struct BodyPart {
     RigidShape shape = RigidShape::box;
-    Vec3 size = Vec3(0.5, 0.5, 0.5);  // m, as BodyDef::size
-    Vec3 offset = Vec3::Zero();       // m, of the part's centre in the shape frame
+    Vec3 size = Vec3(0.5, 0.5, 0.5);                                  // m, as BodyDef::size
+    Vec3 offset = Vec3::Zero();                                       // m, of the part's centre in the shape frame
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // of the part in the shape frame
     double density = 1000.0;                                          // kg/m³ (> 0)
 };
@@ -83,14 +83,37 @@ struct RigidSettings {
     bool ground = true;                // a static plane y = ground_height
     double ground_height = 0.0;        // m
     std::uint64_t seed = 1;            // for quickstep's constraint order
-    // Sleep (Box2D's and ODE's auto-disable): a group of bodies held together
-    // by joints (a whole ragdoll at once) whose every body has moved slower
-    // than both speeds for sleep_time is disabled: not stepped, not counted as
-    // moving, until a contact or an awake jointed body wakes it.
+    // The gyroscopic term of Euler's equations, I ω̇ = -ω × I ω (what makes
+    // a T-handle flip about its intermediate axis). ODE's own treatment is
+    // implicit and dissipative: a free spin loses energy and settles about
+    // the largest axis (6% in 10 s on the inertia scene's T-handle). Here
+    // each step first advances ω in the body frame by RK4 on the torque-free
+    // equations, then ODE steps without its term: energy and |L| of a free
+    // spin are kept to O(h⁴) per step.
+    bool gyroscopic_rk4 = true;
+    // Position iterations after ODE's step (as Jolt's): each pulls every
+    // ball, hinge and universal joint's two anchors together by a nonlinear
+    // Gauss-Seidel pass over positions and orientations, velocities left
+    // alone. ODE alone corrects drift by ERP, a fifth per step, so a tumbling
+    // ragdoll's joints stand centimetres apart; 0: ODE alone.
+    int position_iterations = 2;
+    // Bodies joined by joints, directly or through others (a ragdoll, a
+    // chain), collide with each other only if true, and then only when three
+    // or more joints apart. Off by default, as in most engines' ragdolls:
+    // ODE's iterative solver cannot settle a limb resting on its own torso
+    // (a closed loop of contacts and joints), and the ragdoll creeps forever.
+    bool self_collision = false;
+    // Sleep (ODE's auto-disable, PhysX's sleep threshold): a group of bodies
+    // held together by joints (a whole ragdoll at once, or one free body)
+    // whose kinetic energy per kilogram, smoothed, stays under that of
+    // sleep_speed (½ v², rotation included) for sleep_time is disabled: not
+    // stepped, not counted as moving, until a contact from a moving body or
+    // an awake jointed body wakes it. PhysX's default threshold is the same
+    // 0.1 m/s; lower, a pile of ragdolls under ODE's iterative solver keeps
+    // creeping and never sleeps.
     bool sleep = true;
-    double sleep_speed = 0.05;          // m/s
-    double sleep_angular_speed = 0.15;  // rad/s
-    double sleep_time = 0.5;            // s
+    double sleep_speed = 0.1;  // m/s, RMS over the group's mass
+    double sleep_time = 0.5;   // s
 };
 
 // Throws InputError naming the field ("rigid.iterations must be ...").
@@ -156,7 +179,8 @@ struct BodyState {
     Vec3 velocity = Vec3::Zero();          // m/s
     Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
     bool awake = true;                     // false: asleep (RigidSettings::sleep)
-    std::uint32_t idle_steps = 0;          // steps in a row below the sleep speeds
+    std::uint32_t idle_steps = 0;          // its group's steps in a row under the sleep energy
+    double sleep_energy = 0.0;             // J/kg, its group's smoothed kinetic energy per kilogram
 };
 
 // A body's piece where it is now: for drawing, and for particles colliding
@@ -164,7 +188,7 @@ struct BodyState {
 struct PlacedPart {
     BodyId body;
     RigidShape shape = RigidShape::box;
-    Vec3 size = Vec3::Zero();  // m
+    Vec3 size = Vec3::Zero();    // m
     Vec3 center = Vec3::Zero();  // m, world frame
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
@@ -203,7 +227,7 @@ public:
     // Static geometry: bodies collide with it, it never moves. Used for the
     // scene's particle colliders, so one static world serves both.
     void add_static(const Collider& collider);
-    void remove_body(BodyId id);           // InputError for a stale id
+    void remove_body(BodyId id);  // InputError for a stale id
     bool alive(BodyId id) const;
     std::size_t body_count() const;
 
@@ -228,10 +252,15 @@ public:
     std::vector<MassRatio> mass_ratios_above(double limit) const;
     // Every part of every live body, in body index order.
     std::vector<PlacedPart> placed_parts() const;
-    double kinetic_energy() const;             // J, ½ m v² + ½ ωᵀ I ω over all bodies
-    double potential_energy() const;           // J, -m g·x over all bodies
+    double kinetic_energy() const;    // J, ½ m v² + ½ ωᵀ I ω over all bodies
+    double potential_energy() const;  // J, -m g·x over all bodies
     // FNV-1a over every live body's position, orientation and velocities.
     std::uint64_t hash() const;
+    // What ODE's solver reported while this world stepped (ODE prints these
+    // to stderr by default): each message once, with how many steps said it,
+    // e.g. "LCP internal error, s <= 0 (s=0.0000e+00) (3 times)" from the
+    // exact solver meeting a degenerate contact set.
+    std::vector<std::string> solver_messages() const;
 
     // Every body's state (index order; removed bodies skipped) and the step
     // count: what a snapshot of a world needs, and what restores it.
