@@ -161,7 +161,9 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
     std::optional<double> error;
     if (!scene.ghosts.empty()) {
         const scenes::Ghost& g = scene.ghosts.front();
-        error = (world.state().x.get(g.particle) - g.exact(run.time()).x).norm();
+        const sim::Vec3 x = g.body >= 0 ? world.rigid()->state({static_cast<std::uint32_t>(g.body), 0}).position
+                                        : world.state().x.get(g.particle);
+        error = (x - g.exact(run.time()).x).norm();
     }
     const sim::Verdict& verdict = run.verdict();
 
@@ -201,6 +203,7 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         if (!contained.empty()) j["contained"] = contained;
         j["force_evaluations"] = world.force_evaluations();
         if (error) j["position_error"] = number(*error);
+        if (world.rigid() != nullptr) j["solver_messages"] = world.rigid()->solver_messages();
         std::cout << j.dump() << "\n";
     } else {
         std::printf("%s: %d frames of %s, dt %s x %d substeps, t = %.4g s\n", scene.name.c_str(), run.frame(),
@@ -209,9 +212,11 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", e0, finite_or_nan(e1),
                     drift, e_min, e_max);
         if (error) {
-            std::printf("  accuracy  %s is %.3e m from the %s closed form\n",
-                        scene.particle_names[scene.ghosts.front().particle].c_str(), *error,
-                        scene.ghosts.front().solution.c_str());
+            const scenes::Ghost& g = scene.ghosts.front();
+            const std::string& who = g.body >= 0
+                                         ? scene.body_names[static_cast<std::size_t>(g.body)] + "'s centre of mass"
+                                         : scene.particle_names[g.particle];
+            std::printf("  accuracy  %s is %.3e m from the %s closed form\n", who.c_str(), *error, g.solution.c_str());
         }
         std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(), ms_total);
         bool first = true;
@@ -224,6 +229,10 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         for (const auto& c : world.contained()) {
             std::printf("  contained %s (frozen; the run went on)\n",
                         c.verdict.message(scene.name + ": " + c.name).c_str());
+        }
+        if (world.rigid() != nullptr) {
+            for (const std::string& said : world.rigid()->solver_messages())
+                std::printf("  ODE said  %s\n", said.c_str());
         }
         std::printf("  state     hash %s\n", run.state_hash_hex().c_str());
         if (verdict.exploded()) std::printf("%s\n", verdict.message(scene.name).c_str());

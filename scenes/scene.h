@@ -52,6 +52,7 @@ struct BodyLook {
 // against. Derived from the scene's own parameters by the loader.
 struct Ghost {
     std::size_t particle = 0;
+    int body = -1;         // >= 0: follows this rigid body's centre of mass (model.rigid.bodies index)
     std::string solution;  // ballistic, oscillator, kepler, pendulum
     std::function<sim::analytic::PointState(double t)> exact;
 };

@@ -35,9 +35,10 @@
 //   [[emitters]] name, count, position (m), direction, cone (deg), speed (m/s), speed_jitter,
 //                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
 //   Rigid bodies (ODE; a scene without them makes no ODE world):
-//   [rigid]      quickstep, iterations, friction, restitution, bounce_velocity (m/s), erp, cfm,
-//                ground, ground_height (m), seed, sleep, sleep_speed (m/s), sleep_angular_speed
-//                (deg/s), sleep_time (s); the [[colliders]] are static geometry for bodies too
+//   [rigid]      gravity (m/s², default [0, -9.81, 0]), quickstep, iterations, friction, restitution, bounce_velocity
+//   (m/s), erp, cfm,
+//                ground, ground_height (m), seed, sleep, sleep_speed (m/s, RMS), sleep_time (s),
+//                self_collision, position_iterations; the [[colliders]] are static geometry for bodies too
 //   [[bodies]]   name, shape = "box"|"sphere"|"capsule"|"cylinder", size (m: box extents; radius,
 //                length), mass (kg) or density (kg/m³), position (m), rotation ([x, y, z] deg),
 //                velocity (m/s), angular_velocity (deg/s), com (m, in the shape's frame), color
@@ -58,7 +59,8 @@
 //   [camera]     projection = "perspective"|"orthographic", eye, target, up, fov (deg), height (m)
 //   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), energy_plot, hud
 //   [[ghosts]]   particle, solution = "ballistic"|"oscillator"|"kepler"|"pendulum",
-//                anchor (oscillator, pendulum: the pinned particle), center (kepler)
+//                anchor (oscillator, pendulum: the pinned particle), center (kepler);
+//                or body (a rigid body's centre of mass), solution = "ballistic"
 //
 // Contents: 1. locations and messages  2. typed reads  3. sections  4. ghosts
 //           5. overrides  6. entry points
@@ -638,7 +640,8 @@ struct Builder {
                 const sim::Vec3 size = at.vec3("size", fallback, "m");
                 const int used = shape == sim::RigidShape::box ? 3 : shape == sim::RigidShape::sphere ? 1 : 2;
                 for (int a = 0; a < used; ++a) {
-                    if (!(size[a] > 0)) at.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
+                    if (!(size[a] > 0))
+                        at.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
                 }
                 return size;
             };
@@ -750,8 +753,32 @@ struct Builder {
             m.joints.push_back(j);
             joint_nodes.push_back(joints[k]);
         }
-        // Jointed mass ratios above 10:1 converge slowly in the iterative solver: warn.
-        for (std::size_t k = 0; k < m.joints.size(); ++k) {
+        if (const toml::table* t = top.subtable("rigid")) {
+            const Section s(r, *t, "rigid");
+            s.only({"quickstep", "iterations", "friction", "restitution", "bounce_velocity", "erp", "cfm", "ground",
+                    "ground_height", "seed", "sleep", "sleep_speed", "sleep_time", "gravity", "self_collision",
+                    "position_iterations"});
+            sim::RigidSettings& rs = m.settings;
+            rs.quickstep = s.boolean("quickstep", rs.quickstep);
+            rs.iterations = static_cast<int>(s.integer("iterations", rs.iterations, 1, 10'000));
+            rs.friction = s.number("friction", rs.friction, 0.0, 1e6, "(Coulomb μ)");
+            rs.restitution = s.number("restitution", rs.restitution, 0.0, 1.0, "(0 .. 1)");
+            rs.bounce_velocity = s.number("bounce_velocity", rs.bounce_velocity, 0.0, kHuge, "m/s");
+            rs.erp = s.number("erp", rs.erp, 0.0, 1.0, "(0 .. 1)");
+            rs.cfm = s.number("cfm", rs.cfm, 0.0, kHuge, "(ODE's CFM)");
+            rs.gravity = s.vec3("gravity", rs.gravity, "m/s²");
+            rs.ground = s.boolean("ground", rs.ground);
+            rs.ground_height = s.number("ground_height", rs.ground_height, -1e5, 1e5, "m");
+            rs.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
+            rs.sleep = s.boolean("sleep", rs.sleep);
+            rs.sleep_speed = s.positive("sleep_speed", rs.sleep_speed, kHuge, "m/s");
+            rs.sleep_time = s.positive("sleep_time", rs.sleep_time, kHuge, "s");
+            rs.self_collision = s.boolean("self_collision", rs.self_collision);
+            rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
+        }
+        // Jointed mass ratios above 10:1 converge slowly in the iterative solver: warn
+        // (ODE's exact solver, quickstep = false, does not care).
+        for (std::size_t k = 0; m.settings.quickstep && k < m.joints.size(); ++k) {
             const sim::RigidJoint& j = m.joints[k];
             if (j.b < 0) continue;
             const auto a = static_cast<std::size_t>(j.a), b = static_cast<std::size_t>(j.b);
@@ -763,30 +790,8 @@ struct Builder {
             w << r.where(joint_nodes[k]) << ": " << scene.body_names[a] << " (" << ma << " kg) and "
               << scene.body_names[b] << " (" << mb << " kg) are jointed with a mass ratio of " << ratio
               << ":1, over 10:1: the iterative solver converges slowly (the joint stretches); "
-                 "raise rigid.iterations or even out the masses";
+                 "raise rigid.iterations, use the exact solver (rigid.quickstep = false) or even out the masses";
             scene.warnings.push_back(w.str());
-        }
-        if (const toml::table* t = top.subtable("rigid")) {
-            const Section s(r, *t, "rigid");
-            s.only({"quickstep", "iterations", "friction", "restitution", "bounce_velocity", "erp", "cfm", "ground",
-                    "ground_height", "seed", "sleep", "sleep_speed", "sleep_angular_speed", "sleep_time"});
-            sim::RigidSettings& rs = m.settings;
-            rs.quickstep = s.boolean("quickstep", rs.quickstep);
-            rs.iterations = static_cast<int>(s.integer("iterations", rs.iterations, 1, 10'000));
-            rs.friction = s.number("friction", rs.friction, 0.0, 1e6, "(Coulomb μ)");
-            rs.restitution = s.number("restitution", rs.restitution, 0.0, 1.0, "(0 .. 1)");
-            rs.bounce_velocity = s.number("bounce_velocity", rs.bounce_velocity, 0.0, kHuge, "m/s");
-            rs.erp = s.number("erp", rs.erp, 0.0, 1.0, "(0 .. 1)");
-            rs.cfm = s.number("cfm", rs.cfm, 0.0, kHuge, "(ODE's CFM)");
-            rs.ground = s.boolean("ground", rs.ground);
-            rs.ground_height = s.number("ground_height", rs.ground_height, -1e5, 1e5, "m");
-            rs.seed = static_cast<std::uint64_t>(s.integer("seed", 1, 0, std::numeric_limits<long long>::max()));
-            rs.sleep = s.boolean("sleep", rs.sleep);
-            rs.sleep_speed = s.positive("sleep_speed", rs.sleep_speed, kHuge, "m/s");
-            rs.sleep_angular_speed = s.positive("sleep_angular_speed", rs.sleep_angular_speed * 180.0 / std::numbers::pi,
-                                                kHuge, "deg/s") *
-                                     kDeg;
-            rs.sleep_time = s.positive("sleep_time", rs.sleep_time, kHuge, "s");
         }
     }
 
@@ -1138,8 +1143,22 @@ struct Builder {
         const auto list = top.tables("ghosts", 64);
         for (std::size_t k = 0; k < list.size(); ++k) {
             const Section s(r, *list[k], "ghosts[" + std::to_string(k) + "]");
-            s.only({"particle", "solution", "anchor", "center"});
+            s.only({"particle", "body", "solution", "anchor", "center"});
             Ghost g;
+            if (s.node("body") != nullptr) {
+                // A rigid body's centre of mass in free flight: a parabola, whatever the body spins.
+                const std::string name = s.string("body", "");
+                const auto it = std::find(scene.body_names.begin(), scene.body_names.end(), name);
+                if (it == scene.body_names.end()) s.fail("body", "names no body (got " + quote(name) + ")");
+                if (s.node("particle") != nullptr) s.fail("particle", "and body cannot both be given");
+                g.body = static_cast<int>(it - scene.body_names.begin());
+                g.solution = s.word("solution", "", {"ballistic"});
+                const sim::BodyDef& b = scene.model.rigid.bodies[static_cast<std::size_t>(g.body)];
+                const sim::Vec3 x0 = b.position, v0 = b.velocity, gv = scene.model.rigid.settings.gravity;
+                g.exact = [=](double t) { return sim::analytic::ballistic(x0, v0, gv, t); };
+                scene.ghosts.push_back(std::move(g));
+                continue;
+            }
             g.particle = particle_ref(s, "particle");
             g.solution = s.word("solution", "", {"ballistic", "oscillator", "kepler", "pendulum"});
             const sim::ParticleDef& p = scene.model.particles[g.particle];
@@ -1290,9 +1309,9 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     scene.name = name;
     const Section top(reader, root, "");
     if (root.empty()) reader.fail(nullptr, "the file is empty: a scene needs at least description and [[particles]]");
-    top.only({"description", "frames",      "checkpoints", "step",     "particles", "groups", "ropes",
-              "cloths",      "soft_bodies", "emitters",    "bodies",   "ragdolls",  "joints",    "rigid",  "forces",
-              "constraints", "collisions",  "colliders",   "watchdog", "camera",    "view",   "ghosts"});
+    top.only({"description", "frames",    "checkpoints", "step",     "particles", "groups", "ropes",  "cloths",
+              "soft_bodies", "emitters",  "bodies",      "ragdolls", "joints",    "rigid",  "forces", "constraints",
+              "collisions",  "colliders", "watchdog",    "camera",   "view",      "ghosts"});
     if (top.node("description") == nullptr)
         reader.fail(&root, "description is required: one sentence saying what the scene shows");
     scene.description = top.string("description", "", 300);

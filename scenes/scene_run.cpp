@@ -229,6 +229,22 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
         }
     }
     for (const Ghost& g : scene_.ghosts) {
+        if (g.body >= 0) {
+            // A body's centre of mass: the whole analytic path, and where on it the body should be now.
+            const render::Color color{0.15f, 0.4f, 0.85f, 1};  // the ghost's blue, apart from any body colour
+            render::Ribbon path;
+            const double end = scene_.frames * scene_.step.dt;
+            for (int k = 0; k <= 96; ++k) path.points.push_back(to_render(g.exact(end * k / 96.0).x));
+            path.width = 0.025f;
+            path.look = render::Look{color, true};
+            list.ribbons.push_back(std::move(path));
+            list.spheres.push_back(render::Sphere{to_render(g.exact(time()).x), 0.07f, render::Look{color, true}});
+            // The body's own centre of mass, a yellow dot on it: the one point that follows the ghost.
+            const sim::BodyState body = world_.rigid()->state({static_cast<std::uint32_t>(g.body), 0});
+            list.spheres.push_back(
+                render::Sphere{to_render(body.position), 0.04f, render::Look{render::Color{0.95f, 0.8f, 0.1f, 1}}});
+            continue;
+        }
         const ParticleLook& look = scene_.looks[g.particle];
         list.spheres.push_back(render::Sphere{to_render(g.exact(time()).x), static_cast<float>(look.radius),
                                               render::Look{look.color, true}});

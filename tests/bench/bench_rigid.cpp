@@ -12,6 +12,7 @@
 //
 // Each iteration builds a fresh world (not timed) and times 120 steps, so
 // every iteration measures the same 2 s of the same simulation.
+#include "scenes/scene.h"
 #include "sim/ragdoll.h"
 #include "sim/rigid.h"
 #include "sim/world.h"
@@ -25,26 +26,12 @@ namespace {
 
 constexpr double kDt = 1.0 / 60.0;  // s
 constexpr int kSteps = 120;         // 2 s
-constexpr int kIterations = 20;     // quickstep iterations, as the scene
 
-// The ragdoll-pile scene's layout: 5 layers of 4, lying down, layers crossed.
+// The first `count` ragdolls of the ragdoll-pile scene (5 crossed layers of 4).
 sim::RigidModel pile(int count) {
-    sim::RigidModel model;
-    model.settings.iterations = kIterations;
-    model.settings.restitution = 0.05;
-    for (int k = 0; k < count; ++k) {
-        const int layer = k / 4, i = k % 4;
-        const double yaw = (layer % 2 == 0 ? 0.0 : 90.0) + (k * 13) % 11 - 5;  // degrees
-        const double off = (i - 1.5) * 0.45, jitter = ((k * 37) % 7 - 3) * 0.02;
-        sim::RagdollDef d;
-        d.position = layer % 2 == 0 ? sim::Vec3(jitter, 0.4 + 0.45 * layer, off - jitter)
-                                    : sim::Vec3(off + jitter, 0.4 + 0.45 * layer, -jitter);
-        constexpr double kDeg = 3.14159265358979323846 / 180.0;
-        d.orientation = Eigen::AngleAxisd(yaw * kDeg, sim::Vec3::UnitY()) * Eigen::AngleAxisd(90 * kDeg, sim::Vec3::UnitX());
-        const sim::RagdollParts parts = sim::ragdoll_parts(d, static_cast<int>(model.bodies.size()));
-        model.bodies.insert(model.bodies.end(), parts.bodies.begin(), parts.bodies.end());
-        model.joints.insert(model.joints.end(), parts.joints.begin(), parts.joints.end());
-    }
+    sim::RigidModel model = scenes::load_scene(scenes::resolve_scene("ragdoll-pile")).model.rigid;
+    model.bodies.resize(static_cast<std::size_t>(count) * sim::kRagdollBones);
+    model.joints.resize(static_cast<std::size_t>(count) * sim::kRagdollJoints);
     return model;
 }
 
@@ -57,9 +44,8 @@ void Wrapper(benchmark::State& state) {
         for (int i = 0; i < kSteps; ++i) world.step(kDt);
         benchmark::DoNotOptimize(world.hash());
     }
-    state.counters["ms_per_step"] =
-        benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
-                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ms_per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void SceneWorld(benchmark::State& state) {
@@ -72,9 +58,8 @@ void SceneWorld(benchmark::State& state) {
         for (int i = 0; i < kSteps; ++i) world.step({sim::Integrator::symplectic_euler, kDt, 1});
         benchmark::DoNotOptimize(world.rigid()->hash());
     }
-    state.counters["ms_per_step"] =
-        benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
-                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ms_per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // --- the same, straight against ODE's C API -----------------------------------------
@@ -89,7 +74,8 @@ struct Raw {
 void raw_near(void* data, dGeomID a, dGeomID b) {
     auto* r = static_cast<Raw*>(data);
     dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
-    if (ba != nullptr && bb != nullptr && dAreConnectedExcluding(ba, bb, dJointTypeContact)) return;
+    // As the wrapper (RigidSettings::self_collision false): no contacts within one ragdoll.
+    if (ba != nullptr && bb != nullptr && dBodyGetData(ba) == dBodyGetData(bb)) return;
     dContact c[4];
     const int n = dCollide(a, b, 4, &c[0].geom, sizeof(dContact));
     for (int i = 0; i < n; ++i) {
@@ -110,8 +96,14 @@ void RawOde(benchmark::State& state) {
     dAllocateODEDataForThread(dAllocateMaskAll);
     for (auto _ : state) {
         state.PauseTiming();
-        Raw r{dWorldCreate(), dHashSpaceCreate(nullptr), dJointGroupCreate(0), s.friction, s.restitution,
-              s.bounce_velocity, s.erp, s.cfm};
+        Raw r{dWorldCreate(),
+              dHashSpaceCreate(nullptr),
+              dJointGroupCreate(0),
+              s.friction,
+              s.restitution,
+              s.bounce_velocity,
+              s.erp,
+              s.cfm};
         dWorldSetGravity(r.world, 0, -9.81, 0);
         dWorldSetERP(r.world, s.erp);
         dWorldSetCFM(r.world, s.cfm);
@@ -139,6 +131,7 @@ void RawOde(benchmark::State& state) {
             dBodyID body = dBodyCreate(r.world);
             dBodySetMass(body, &m);
             dGeomSetBody(g, body);
+            dBodySetData(body, reinterpret_cast<void*>(bodies.size() / sim::kRagdollBones + 1));  // its ragdoll
             dBodySetPosition(body, b.position.x(), b.position.y(), b.position.z());
             const dQuaternion q = {b.orientation.w(), b.orientation.x(), b.orientation.y(), b.orientation.z()};
             dBodySetQuaternion(body, q);
@@ -201,9 +194,8 @@ void RawOde(benchmark::State& state) {
         state.ResumeTiming();
     }
     dCloseODE();
-    state.counters["ms_per_step"] =
-        benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
-                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ms_per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
+                                                       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 }  // namespace

@@ -102,12 +102,13 @@ TEST(SceneFile, ShippedCatalogueLoads) {
         const SceneDef s = load_scene(resolve_scene(name));
         EXPECT_EQ(s.name, name);
         EXPECT_FALSE(s.description.empty());
-        const bool has_closed_form =
-            name == "orbit" || name == "ballistic" || name == "oscillator" || name == "pendulum";
-        EXPECT_EQ(!s.ghosts.empty(), has_closed_form) << name << ": the particle scenes show their closed form";
+        const bool has_closed_form = name == "orbit" || name == "ballistic" || name == "oscillator" ||
+                                     name == "pendulum" || name == "barycenter";
+        EXPECT_EQ(!s.ghosts.empty(), has_closed_form) << name << ": the scenes with a closed form show it";
         for (const Ghost& g : s.ghosts) {
-            const sim::Vec3 x0 = s.model.particles[g.particle].position;
-            EXPECT_LT((g.exact(0.0).x - x0).norm(), 1e-9) << name << ": the ghost starts on the particle, m";
+            const sim::Vec3 x0 = g.body >= 0 ? s.model.rigid.bodies[static_cast<std::size_t>(g.body)].position
+                                             : s.model.particles[g.particle].position;
+            EXPECT_LT((g.exact(0.0).x - x0).norm(), 1e-9) << name << ": the ghost starts on its particle or body, m";
         }
     }
     EXPECT_THROW(resolve_scene("nope"), SceneError);
