@@ -150,9 +150,11 @@ struct RigidWorld::Impl {
         double mass = 1.0;                                          // kg
         Eigen::Matrix3d inertia = Eigen::Matrix3d::Identity();      // kg·m², body frame
         Eigen::Matrix3d inv_inertia = Eigen::Matrix3d::Identity();  // its inverse
-        std::uint32_t idle_steps = 0;                               // its group's steps in a row under the sleep energy
-        double sleep_energy = 0.0;  // J/kg, its group's smoothed kinetic energy per kilogram
-        bool asleep = false;        // disabled by sleep (ODE may wake it)
+        std::uint32_t idle_steps = 0;       // its group's steps in a row at rest (1: a window starts)
+        double sleep_energy = 0.0;          // J/kg, its group's smoothed kinetic energy per kilogram
+        Vec3 rest_position = Vec3::Zero();  // where the window started
+        Eigen::Quaterniond rest_orientation = Eigen::Quaterniond::Identity();
+        bool asleep = false;  // disabled by sleep (ODE may wake it)
     };
     std::vector<Slot> slots;
     std::vector<std::uint32_t> free_slots;
@@ -168,9 +170,9 @@ struct RigidWorld::Impl {
     std::uint64_t steps = 0;
     std::size_t contacts = 0;
     SolverMessages messages;
-    std::vector<std::uint32_t> group_of;           // union-find parents over body slots: jointed groups
-    std::vector<double> group_energy, group_mass;  // sleep's scratch, by group root
-    std::vector<char> group_woken;
+    std::vector<std::uint32_t> group_of;                        // union-find parents over body slots: jointed groups
+    std::vector<double> group_energy, group_moved, group_mass;  // sleep's scratch, by group root
+    std::vector<char> group_woken;                              // ... and whether its window starts again this step
 
     const Slot& slot(BodyId id) const {
         if (id.index >= slots.size() || slots[id.index].body == nullptr ||
@@ -209,6 +211,73 @@ struct RigidWorld::Impl {
                 break;
             case JointType::fixed:
                 break;
+        }
+    }
+
+    // A limited axis's position (rad or m) and rate now, for speculative stops.
+    static bool axis_motion(const JointSlot& js, int axis, double& position, double& rate) {
+        switch (js.def.type) {
+            case JointType::hinge:
+                position = dJointGetHingeAngle(js.joint);
+                rate = dJointGetHingeAngleRate(js.joint);
+                return true;
+            case JointType::slider:
+                position = dJointGetSliderPosition(js.joint);
+                rate = dJointGetSliderPositionRate(js.joint);
+                return true;
+            case JointType::universal:
+                position = axis == 0 ? dJointGetUniversalAngle1(js.joint) : dJointGetUniversalAngle2(js.joint);
+                rate = axis == 0 ? dJointGetUniversalAngle1Rate(js.joint) : dJointGetUniversalAngle2Rate(js.joint);
+                return true;
+            case JointType::ball:
+                if (js.amotor == nullptr) return false;
+                position = dJointGetAMotorAngle(js.amotor, axis);
+                rate = dJointGetAMotorAngleRate(js.amotor, axis);
+                return true;
+            case JointType::fixed:
+                return false;
+        }
+        return false;
+    }
+
+    // Speculative stops (Box2D's speculative joint limits, in ODE's terms).
+    // ODE turns a stop on only once the joint is past it at the start of a
+    // step, so a limb hit hard swings far past its stop within one step (an
+    // elbow 0.5 rad past straight when a ragdoll lands on its hand) and
+    // creeps back by ERP. Near a stop (within a step's travel and a margin)
+    // the stop is turned on early instead, as a row that lets the joint
+    // close the gap in this step and no more: with the stop placed at the
+    // joint's mirror image across the real stop and a stop ERP of -1, ODE's
+    // row asks rate <= (hi - position) / h (rate >= (lo - position) / h at
+    // the low stop). Past a stop, or far from both, the stops are ODE's own
+    // (the world's ERP pushes a joint past its stop back).
+    void speculative_stops(double h) {
+        constexpr double kMargin = 0.05;  // rad (m for a slider): turned on this close without motion
+        for (const JointSlot& js : joints) {
+            // Soft stops (a stop stiffness) are springs: nothing to foresee.
+            if (js.joint == nullptr || js.def.stop_stiffness > 0.0) continue;
+            const double limits[3][2] = {{js.def.lo, js.def.hi}, {js.def.lo2, js.def.hi2}, {js.def.lo3, js.def.hi3}};
+            for (int axis = 0; axis < 3; ++axis) {
+                const double lo = limits[axis][0], hi = limits[axis][1];
+                double position = 0.0, rate = 0.0;
+                if (lo > hi || !axis_motion(js, axis, position, rate)) continue;
+                // Within reach of one stop only: less than half the range.
+                const double reach = std::min(kMargin + 2.0 * h * std::abs(rate), 0.49 * (hi - lo));
+                double lo_now = lo, hi_now = hi, erp_now = settings.erp;  // ODE's default stop ERP
+                if (position < hi && hi - position < reach) {
+                    hi_now = 2.0 * position - hi;
+                    erp_now = -1.0;
+                } else if (position > lo && position - lo < reach) {
+                    lo_now = 2.0 * position - lo;
+                    erp_now = -1.0;
+                }
+                // ODE keeps lo <= hi when set one at a time: widen first, then narrow.
+                set_param(js, dParamLoStop, -dInfinity, axis);
+                set_param(js, dParamHiStop, dInfinity, axis);
+                set_param(js, dParamLoStop, lo_now, axis);
+                set_param(js, dParamHiStop, hi_now, axis);
+                set_param(js, dParamStopERP, erp_now, axis);
+            }
         }
     }
 
@@ -399,8 +468,8 @@ struct RigidWorld::Impl {
         }
     }
 
-    // Slow enough to fall asleep: the body's group within twice the sleep
-    // speed (a margin for the solver's jitter).
+    // Slow enough to fall asleep: the body's group's smoothed kinetic energy
+    // per kilogram within sleep's limit, that of twice sleep_speed.
     bool slow(dBodyID body) const {
         const double v = 2.0 * settings.sleep_speed;
         return slots[index_of(body)].sleep_energy <= 0.5 * v * v;
@@ -432,20 +501,37 @@ struct RigidWorld::Impl {
         return 0.5 * s.mass * to_vec(dBodyGetLinearVel(s.body)).squaredNorm() + 0.5 * w.dot(s.inertia * w);
     }
 
-    // Sleep (PhysX's criterion for articulations): a group of jointed bodies
-    // is idle while its kinetic energy per kilogram, smoothed over a quarter
-    // of sleep_time, stays under ½ sleep_speed² (an RMS speed): the mass
-    // weights it, so a light hand jittering in a pile (the iterative solver's
-    // noise, which never stops) does not keep a 70 kg ragdoll awake, and the
-    // smoothing lets one noisy step pass. A group idle for sleep_time is
-    // disabled at rest. A group that ODE re-enabled (a contact, a joint to an
-    // awake body) starts again. Each body keeps its group's figures, so that
-    // body_states() carries them.
+    // How far a body has moved from its rest pose, weighted: m |Δx|² + Δθᵀ I Δθ
+    // (kg·m²), Δθ its turn in its own frame.
+    double displacement(const Slot& s) const {
+        const Vec3 dx = to_vec(dBodyGetPosition(s.body)) - s.rest_position;
+        const dReal* q = dBodyGetQuaternion(s.body);
+        const Eigen::AngleAxisd turn(s.rest_orientation.conjugate() * Eigen::Quaterniond(q[0], q[1], q[2], q[3]));
+        const Vec3 dtheta = turn.angle() * turn.axis();
+        return s.mass * dx.squaredNorm() + dtheta.dot(s.inertia * dtheta);
+    }
+
+    // Sleep, by group of jointed bodies (a whole ragdoll, or one free body),
+    // both weighted by mass so that a light hand does not keep a 70 kg
+    // ragdoll awake:
+    //  - its kinetic energy per kilogram, smoothed over a quarter of
+    //    sleep_time, is under that of twice sleep_speed (½ (2 v)²), and
+    //  - it has not moved, since it became idle, farther than sleep_speed ·
+    //    sleep_time (the mass-weighted RMS of its bodies' displacements and
+    //    turns): the mean speed over the window, as ODE averages velocity
+    //    samples, so that the iterative solver's jitter in a pile (which
+    //    never stops, and averages to nothing) counts as rest and a slow
+    //    creep does not.
+    // A group idle for sleep_time is disabled at rest. A group that ODE
+    // re-enabled (a contact, a joint to an awake body) starts again. Each
+    // body keeps its group's figures, so that body_states() carries them.
     void sleep(double h) {
-        const double limit = 0.5 * settings.sleep_speed * settings.sleep_speed;  // J/kg
+        const double energy_limit = 2.0 * settings.sleep_speed * settings.sleep_speed;  // J/kg, ½ (2 v)²
+        const double reach = settings.sleep_speed * settings.sleep_time;                // m
         const double blend = std::min(1.0, h / (0.25 * settings.sleep_time));
         const auto needed = static_cast<std::uint32_t>(std::ceil(settings.sleep_time / h));
         group_energy.assign(slots.size(), 0.0);
+        group_moved.assign(slots.size(), 0.0);
         group_mass.assign(slots.size(), 0.0);
         group_woken.assign(slots.size(), 0);
         for (std::uint32_t i = 0; i < slots.size(); ++i) {
@@ -453,6 +539,7 @@ struct RigidWorld::Impl {
             if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
             const std::uint32_t root = find(i);
             group_energy[root] += kinetic(s);
+            group_moved[root] += displacement(s);
             group_mass[root] += s.mass;
             if (s.asleep) group_woken[root] = 1;
             s.asleep = false;
@@ -461,18 +548,24 @@ struct RigidWorld::Impl {
             Slot& s = slots[i];
             if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
             const std::uint32_t root = find(i);
-            if (root == i) {
+            if (root == i) {  // the group's lowest slot: visited before the others
                 const double e = group_energy[root] / group_mass[root];
-                if (group_woken[root] != 0) {
-                    s.sleep_energy = e;
-                    s.idle_steps = 0;
+                const double moved = std::sqrt(group_moved[root] / group_mass[root]);
+                s.sleep_energy = group_woken[root] != 0 ? e : s.sleep_energy + blend * (e - s.sleep_energy);
+                if (group_woken[root] == 0 && s.idle_steps > 0 && moved <= reach) {
+                    if (s.sleep_energy <= energy_limit) ++s.idle_steps;
                 } else {
-                    s.sleep_energy += blend * (e - s.sleep_energy);
-                    s.idle_steps = s.sleep_energy <= limit ? s.idle_steps + 1 : 0;
+                    s.idle_steps = 1;  // a new window, from here
+                    group_woken[root] = 1;
                 }
             } else {
                 s.sleep_energy = slots[root].sleep_energy;
                 s.idle_steps = slots[root].idle_steps;
+            }
+            if (group_woken[root] != 0) {  // woken, moved or new: the window starts here
+                s.rest_position = to_vec(dBodyGetPosition(s.body));
+                const dReal* q = dBodyGetQuaternion(s.body);
+                s.rest_orientation = Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
             }
         }
         for (Slot& s : slots) {
@@ -722,6 +815,7 @@ void RigidWorld::step(double dt) {
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));
     m.update_stops(dt);
+    m.speculative_stops(dt);
     if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
     m.contacts = 0;
     m.build_groups();
@@ -907,6 +1001,8 @@ BodyState RigidWorld::state(BodyId id) const {
     s.awake = dBodyIsEnabled(b) != 0;
     s.idle_steps = impl_->slots[id.index].idle_steps;
     s.sleep_energy = impl_->slots[id.index].sleep_energy;
+    s.rest_position = impl_->slots[id.index].rest_position;
+    s.rest_orientation = impl_->slots[id.index].rest_orientation;
     return s;
 }
 
@@ -1042,6 +1138,8 @@ void RigidWorld::set_body_states(const std::vector<BodyState>& states, std::uint
         impl_->slots[ids[k].index].asleep = !s.awake;
         impl_->slots[ids[k].index].idle_steps = s.idle_steps;
         impl_->slots[ids[k].index].sleep_energy = s.sleep_energy;
+        impl_->slots[ids[k].index].rest_position = s.rest_position;
+        impl_->slots[ids[k].index].rest_orientation = s.rest_orientation;
     }
     impl_->steps = steps;
 }

@@ -103,14 +103,14 @@ struct RigidSettings {
     // ODE's iterative solver cannot settle a limb resting on its own torso
     // (a closed loop of contacts and joints), and the ragdoll creeps forever.
     bool self_collision = false;
-    // Sleep (ODE's auto-disable, PhysX's sleep threshold): a group of bodies
-    // held together by joints (a whole ragdoll at once, or one free body)
-    // whose kinetic energy per kilogram, smoothed, stays under that of
-    // sleep_speed (½ v², rotation included) for sleep_time is disabled: not
-    // stepped, not counted as moving, until a contact from a moving body or
-    // an awake jointed body wakes it. PhysX's default threshold is the same
-    // 0.1 m/s; lower, a pile of ragdolls under ODE's iterative solver keeps
-    // creeping and never sleeps.
+    // Sleep (ODE's auto-disable): a group of bodies held together by joints
+    // (a whole ragdoll at once, or one free body) that for sleep_time has
+    // moved no farther than sleep_speed · sleep_time (its mean speed: the
+    // iterative solver's jitter in a pile averages out) and has a kinetic
+    // energy per kilogram under that of twice sleep_speed, both weighted by
+    // mass, is disabled: not stepped, not counted as moving, until a contact
+    // from a moving body or an awake jointed body wakes it. PhysX's default
+    // threshold is 0.1 m/s too.
     bool sleep = true;
     double sleep_speed = 0.1;  // m/s, RMS over the group's mass
     double sleep_time = 0.5;   // s
@@ -179,8 +179,10 @@ struct BodyState {
     Vec3 velocity = Vec3::Zero();          // m/s
     Vec3 angular_velocity = Vec3::Zero();  // rad/s, world frame
     bool awake = true;                     // false: asleep (RigidSettings::sleep)
-    std::uint32_t idle_steps = 0;          // its group's steps in a row under the sleep energy
+    std::uint32_t idle_steps = 0;          // its group's steps in a row at rest (sleep)
     double sleep_energy = 0.0;             // J/kg, its group's smoothed kinetic energy per kilogram
+    Vec3 rest_position = Vec3::Zero();     // m, where its group's rest window started
+    Eigen::Quaterniond rest_orientation = Eigen::Quaterniond::Identity();
 };
 
 // A body's piece where it is now: for drawing, and for particles colliding

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -202,6 +203,125 @@ TEST(RigidJoints, AMotorTurnsAtItsVelocity) {
     for (int i = 0; i < 60; ++i) world.step(1.0 / 60.0);
     EXPECT_NEAR(world.joint_position(j), 2.0, 0.05) << "rad after 1 s";
     EXPECT_NEAR(world.state(id).angular_velocity.z(), 2.0, 1e-6) << "rad/s";
+}
+
+TEST(Rigid, ACompoundBodysMassCentreAndInertiaAreThePartsClosedForms) {
+    // A 0.2 m wooden cube and a steel ball of radius 0.1 m, 0.5 m apart on z.
+    RigidWorld world({.ground = false});
+    BodyDef hammer;
+    hammer.position = Vec3(1, 2, 3);  // of the centre of mass
+    hammer.parts = {{RigidShape::box, Vec3(0.2, 0.2, 0.2), Vec3::Zero(), Eigen::Quaterniond::Identity(), 1000.0},
+                    {RigidShape::sphere, Vec3(0.1, 0, 0), Vec3(0, 0, 0.5), Eigen::Quaterniond::Identity(), 8000.0}};
+    hammer.mass = 0.0;  // from the densities
+    const BodyId id = world.add_body(hammer);
+    const double m_box = 1000.0 * 0.008, m_ball = 8000.0 * 4.0 / 3.0 * std::numbers::pi * 0.001;  // kg
+    const double m = m_box + m_ball;
+    const double zc = m_ball * 0.5 / m;  // m, the centre of mass from the cube's centre
+    EXPECT_NEAR(world.mass(id), m, 1e-9) << "kg";
+    const Eigen::Matrix3d I = world.inertia(id);
+    const double box_i = m_box * (0.04 + 0.04) / 12.0, ball_i = 0.4 * m_ball * 0.01;  // kg·m², own centres
+    EXPECT_NEAR(I(0, 0), box_i + m_box * zc * zc + ball_i + m_ball * (0.5 - zc) * (0.5 - zc), 1e-9)
+        << "kg·m², parallel axis theorem";
+    EXPECT_NEAR(I(2, 2), box_i + ball_i, 1e-9) << "kg·m², about the line through both centres";
+    EXPECT_NEAR(I(0, 2), 0.0, 1e-12);
+    // The parts sit around the centre of mass, which is the body's position.
+    const auto parts = world.placed_parts();
+    ASSERT_EQ(parts.size(), 2u);
+    EXPECT_LT((parts[0].center - Vec3(1, 2, 3 - zc)).norm(), 1e-12) << "m";
+    EXPECT_LT((parts[1].center - Vec3(1, 2, 3.5 - zc)).norm(), 1e-12) << "m";
+}
+
+TEST(Rigid, ABodyAtRestSleepsAndABlowWakesIt) {
+    RigidWorld world;
+    BodyDef box;
+    box.size = Vec3(0.4, 0.4, 0.4);
+    box.position = Vec3(0, 0.25, 0);
+    const BodyId target = world.add_body(box);
+    int asleep_at = -1;
+    for (int i = 1; i <= 120 && asleep_at < 0; ++i) {
+        world.step(1.0 / 60.0);
+        if (!world.awake(target)) asleep_at = i;
+    }
+    ASSERT_GT(asleep_at, 0) << "asleep within 2 s";
+    EXPECT_GE(asleep_at, 30) << "not before sleep_time (0.5 s) of rest";
+    EXPECT_EQ(world.state(target).velocity.norm(), 0.0) << "m/s: a sleeping body is still";
+    const Vec3 rest = world.state(target).position;
+    for (int i = 0; i < 60; ++i) world.step(1.0 / 60.0);
+    EXPECT_EQ(world.state(target).position, rest) << "asleep: not stepped";
+
+    BodyDef ball;
+    ball.shape = RigidShape::sphere;
+    ball.size = Vec3(0.15, 0, 0);
+    ball.mass = 5.0;
+    ball.position = Vec3(-1.5, 0.3, 0);
+    ball.velocity = Vec3(6, 0, 0);
+    world.add_body(ball);
+    bool woken = false;
+    for (int i = 0; i < 30; ++i) {
+        world.step(1.0 / 60.0);
+        woken = woken || world.awake(target);
+    }
+    EXPECT_TRUE(woken) << "the blow woke it";
+    EXPECT_GT(world.state(target).position.x() - rest.x(), 0.05) << "m: and it was pushed";
+}
+
+TEST(Rigid, ABodyRestsOnAStaticCollider) {
+    RigidWorld world({.ground = false, .sleep = false});
+    world.add_static(BoxCollider{Vec3(0, 1, 0), Vec3(1, 0.5, 1)});  // a table top at y = 1.5
+    BodyDef ball;
+    ball.shape = RigidShape::sphere;
+    ball.size = Vec3(0.2, 0, 0);
+    ball.position = Vec3(0.1, 3, 0);
+    const BodyId id = world.add_body(ball);
+    for (int i = 0; i < 180; ++i) world.step(1.0 / 60.0);
+    EXPECT_NEAR(world.state(id).position.y(), 1.7, 0.005) << "m: on the box, its centre a radius above the top";
+}
+
+TEST(RigidJoints, SwingLimitsOfABallJointHoldAPushedRod) {
+    // A rod hanging from a base held by a fixed joint, pushed about x in zero
+    // gravity: free, it turns all the way round; limited to ±0.5 rad of swing
+    // on each axis it stops within the limit box (corner 0.66 rad from straight down).
+    auto widest_swing = [](bool limited) {
+        RigidWorld world({.gravity = Vec3::Zero(), .ground = false, .sleep = false});
+        BodyDef base;
+        base.position = Vec3(0, 2, 0);
+        base.size = Vec3(0.3, 0.1, 0.3);
+        const BodyId b = world.add_body(base);
+        JointDef fixed;
+        fixed.type = JointType::fixed;
+        fixed.a = b;
+        world.add_joint(fixed);
+        BodyDef rod;
+        rod.size = Vec3(0.05, 0.6, 0.05);
+        rod.position = Vec3(0, 1.65, 0);
+        rod.angular_velocity = Vec3(6, 0, 0);  // rad/s about the anchor:
+        rod.velocity = Vec3(0, 0, -1.8);       // m/s, ω × (x - anchor)
+        const BodyId r = world.add_body(rod);
+        JointDef ball;
+        ball.a = b;
+        ball.b = r;
+        ball.anchor = Vec3(0, 1.95, 0);
+        ball.axis = Vec3::UnitX();
+        ball.axis2 = -Vec3::UnitY();  // along the rod
+        if (limited) {
+            ball.lo = ball.lo2 = -0.5;
+            ball.hi = ball.hi2 = 0.5;
+            ball.lo3 = -0.3;
+            ball.hi3 = 0.3;
+        }
+        world.add_joint(ball);
+        double widest = 0.0;
+        for (int i = 0; i < 120; ++i) {
+            world.step(1.0 / 120.0);
+            const Vec3 along = world.state(r).orientation * -Vec3::UnitY();
+            widest = std::max(widest, std::acos(std::clamp(along.dot(-Vec3::UnitY()), -1.0, 1.0)));
+        }
+        return widest;
+    };
+    const double free = widest_swing(false), limited = widest_swing(true);
+    std::printf("[ measured ] widest swing from straight down: free %.3f rad, limited %.3f rad\n", free, limited);
+    EXPECT_GT(free, 2.5) << "rad: unlimited, the push turns it over";
+    EXPECT_LT(limited, 0.66 + 0.05) << "rad: the limit holds (ODE's stops are soft by ERP)";
 }
 
 TEST(Rigid, BadInputIsRefused) {
