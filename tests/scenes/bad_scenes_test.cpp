@@ -72,6 +72,14 @@ constexpr BadScene kCorpus[] = {
     {"wind_unknown_body.toml", 8, "forces.wind.bodies[0] names no cloth or soft body (got the string 'flag')"},
     {"restitution_above_one.toml", 7, "collisions.restitution must be within 0 .. 1"},
     {"control_end_before_start.toml", 9, "forces.control[0].end must be after start (got 1)"},
+    {"body_negative_mass.toml", 7, "bodies[0].mass must be > 0 and finite, in kg (got -5)"},
+    {"body_parts_and_shape.toml", 6, "bodies[0].parts replace shape and size: give one or the other"},
+    {"joint_unknown_body.toml", 10, "joints[0].b names no body (got 'frame')"},
+    {"joint_unknown_type.toml", 11,
+     "joints[0].type must be one of ball, hinge, universal, slider, fixed (got 'spring')"},
+    {"ragdoll_negative_height.toml", 5, "ragdolls[0].height must be > 0 and at most 100, in m (got -1.8)"},
+    {"rigid_iterations_zero.toml", 7, "rigid.iterations must be within 1 .. 10000 (got 0)"},
+    {"ghost_unknown_body.toml", 11, "ghosts[0].body names no body (got 'hamer')"},
 };
 
 struct Result {

@@ -94,6 +94,21 @@ TEST(SceneFile, ErrorsNameFileLineAndColumn) {
     }
 }
 
+TEST(SceneFile, AHeavyBodyOnALightOneWarnsForTheIterativeSolverOnly) {
+    const std::string chain =
+        "description = \"x\"\n"
+        "[[bodies]]\nname = \"link\"\nmass = 2\n"
+        "[[bodies]]\nname = \"ball\"\nshape = \"sphere\"\nsize = [0.3, 0, 0]\nmass = 200\nposition = [0, -1, 0]\n"
+        "[[joints]]\ntype = \"ball\"\na = \"link\"\nb = \"ball\"\nanchor = [0, -0.5, 0]\n";
+    const SceneDef iterative = parse_scene(chain, "chain.toml");
+    ASSERT_EQ(iterative.warnings.size(), 1u);
+    EXPECT_NE(iterative.warnings[0].find("chain.toml:11:1: link (2 kg) and ball (200 kg)"), std::string::npos)
+        << iterative.warnings[0];
+    EXPECT_NE(iterative.warnings[0].find("100:1"), std::string::npos) << iterative.warnings[0];
+    const SceneDef exact = parse_scene(chain + "[rigid]\nquickstep = false\n", "chain.toml");
+    EXPECT_TRUE(exact.warnings.empty()) << "ODE's exact solver does not mind the ratio";
+}
+
 TEST(SceneFile, ShippedCatalogueLoads) {
     const auto names = catalog();
     ASSERT_GE(names.size(), 4u);
