@@ -38,7 +38,8 @@
 //   [rigid]      gravity (m/s², default [0, -9.81, 0]), quickstep, iterations, friction, restitution, bounce_velocity
 //   (m/s), erp, cfm,
 //                ground, ground_height (m), seed, sleep, sleep_speed (m/s, RMS), sleep_time (s),
-//                self_collision, position_iterations; the [[colliders]] are static geometry for bodies too
+//                self_collision, position_iterations, speculative_stops; the [[colliders]] are static
+//                geometry for bodies too
 //   [[bodies]]   name, shape = "box"|"sphere"|"capsule"|"cylinder", size (m: box extents; radius,
 //                length), mass (kg) or density (kg/m³), position (m), rotation ([x, y, z] deg),
 //                velocity (m/s), angular_velocity (deg/s), com (m, in the shape's frame), color
@@ -757,7 +758,7 @@ struct Builder {
             const Section s(r, *t, "rigid");
             s.only({"quickstep", "iterations", "friction", "restitution", "bounce_velocity", "erp", "cfm", "ground",
                     "ground_height", "seed", "sleep", "sleep_speed", "sleep_time", "gravity", "self_collision",
-                    "position_iterations"});
+                    "position_iterations", "speculative_stops"});
             sim::RigidSettings& rs = m.settings;
             rs.quickstep = s.boolean("quickstep", rs.quickstep);
             rs.iterations = static_cast<int>(s.integer("iterations", rs.iterations, 1, 10'000));
@@ -774,6 +775,7 @@ struct Builder {
             rs.sleep_speed = s.positive("sleep_speed", rs.sleep_speed, kHuge, "m/s");
             rs.sleep_time = s.positive("sleep_time", rs.sleep_time, kHuge, "s");
             rs.self_collision = s.boolean("self_collision", rs.self_collision);
+            rs.speculative_stops = s.boolean("speculative_stops", rs.speculative_stops);
             rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
         }
         // Jointed mass ratios above 10:1 converge slowly in the iterative solver: warn

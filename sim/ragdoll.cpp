@@ -16,11 +16,11 @@ namespace {
 // shoulder height 0.818 H, hip height 0.530 H).
 struct Bone {
     const char* name;
-    int parent;                      // bone index, -1 for the pelvis
-    RigidShape shape;                //
-    double sx, sy, sz;               // H: box extents; radius, straight length
-    double cx, cy, cz;               // H: centre
-    bool along_y;                    // a capsule turned from ODE's z to the bone's y
+    int parent;         // bone index, -1 for the pelvis
+    RigidShape shape;   //
+    double sx, sy, sz;  // H: box extents; radius, straight length
+    double cx, cy, cz;  // H: centre
+    bool along_y;       // a capsule turned from ODE's z to the bone's y
 };
 constexpr double kShoulderX = 0.115, kHipX = 0.05;
 constexpr Bone kBones[kRagdollBones] = {
@@ -58,21 +58,21 @@ struct JointSpec {
     double lo3, hi3;    // about +y (ball: twist)
 };
 constexpr JointSpec kJoints[kRagdollJoints] = {
-    {JointType::ball, 0.0, 0.60, 0.0, -0.3, 0.6, -0.3, 0.3, -0.3, 0.3},                       // lower spine
-    {JointType::ball, 0.0, 0.69, 0.0, -0.3, 0.5, -0.3, 0.3, -0.35, 0.35},                     // upper spine
-    {JointType::ball, 0.0, 0.83, 0.0, -0.6, 0.8, -0.5, 0.5, -1.0, 1.0},                       // neck
-    {JointType::ball, kShoulderX, 0.80, 0.0, -2.6, 0.8, -0.3, 1.4, -1.0, 1.0},                // left shoulder
-    {JointType::hinge, kShoulderX, 0.614, 0.0, -2.6, 0.0, 1, -1, 1, -1},                      // left elbow
-    {JointType::universal, kShoulderX, 0.468, 0.0, -1.0, 1.0, -0.4, 0.4, 1, -1},              // left wrist
-    {JointType::ball, -kShoulderX, 0.80, 0.0, -2.6, 0.8, -1.4, 0.3, -1.0, 1.0},               // right shoulder
-    {JointType::hinge, -kShoulderX, 0.614, 0.0, -2.6, 0.0, 1, -1, 1, -1},                     // right elbow
-    {JointType::universal, -kShoulderX, 0.468, 0.0, -1.0, 1.0, -0.4, 0.4, 1, -1},             // right wrist
-    {JointType::ball, kHipX, 0.53, 0.0, -1.8, 0.35, -0.3, 0.8, -0.5, 0.5},                    // left hip
-    {JointType::hinge, kHipX, 0.285, 0.0, 0.0, 2.4, 1, -1, 1, -1},                            // left knee
-    {JointType::universal, kHipX, 0.039, 0.0, -0.6, 0.6, -0.3, 0.3, 1, -1},                   // left ankle
-    {JointType::ball, -kHipX, 0.53, 0.0, -1.8, 0.35, -0.8, 0.3, -0.5, 0.5},                   // right hip
-    {JointType::hinge, -kHipX, 0.285, 0.0, 0.0, 2.4, 1, -1, 1, -1},                           // right knee
-    {JointType::universal, -kHipX, 0.039, 0.0, -0.6, 0.6, -0.3, 0.3, 1, -1},                  // right ankle
+    {JointType::ball, 0.0, 0.60, 0.0, -0.3, 0.6, -0.3, 0.3, -0.3, 0.3},            // lower spine
+    {JointType::ball, 0.0, 0.69, 0.0, -0.3, 0.5, -0.3, 0.3, -0.35, 0.35},          // upper spine
+    {JointType::ball, 0.0, 0.83, 0.0, -0.6, 0.8, -0.5, 0.5, -1.0, 1.0},            // neck
+    {JointType::ball, kShoulderX, 0.80, 0.0, -2.6, 0.8, -0.3, 1.4, -1.0, 1.0},     // left shoulder
+    {JointType::hinge, kShoulderX, 0.614, 0.0, -2.6, 0.0, 1, -1, 1, -1},           // left elbow
+    {JointType::universal, kShoulderX, 0.468, 0.0, -1.0, 1.0, -0.4, 0.4, 1, -1},   // left wrist
+    {JointType::ball, -kShoulderX, 0.80, 0.0, -2.6, 0.8, -1.4, 0.3, -1.0, 1.0},    // right shoulder
+    {JointType::hinge, -kShoulderX, 0.614, 0.0, -2.6, 0.0, 1, -1, 1, -1},          // right elbow
+    {JointType::universal, -kShoulderX, 0.468, 0.0, -1.0, 1.0, -0.4, 0.4, 1, -1},  // right wrist
+    {JointType::ball, kHipX, 0.53, 0.0, -1.8, 0.35, -0.3, 0.8, -0.5, 0.5},         // left hip
+    {JointType::hinge, kHipX, 0.285, 0.0, 0.0, 2.4, 1, -1, 1, -1},                 // left knee
+    {JointType::universal, kHipX, 0.039, 0.0, -0.6, 0.6, -0.3, 0.3, 1, -1},        // left ankle
+    {JointType::ball, -kHipX, 0.53, 0.0, -1.8, 0.35, -0.8, 0.3, -0.5, 0.5},        // right hip
+    {JointType::hinge, -kHipX, 0.285, 0.0, 0.0, 2.4, 1, -1, 1, -1},                // right knee
+    {JointType::universal, -kHipX, 0.039, 0.0, -0.6, 0.6, -0.3, 0.3, 1, -1},       // right ankle
 };
 
 }  // namespace

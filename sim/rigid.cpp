@@ -252,7 +252,7 @@ struct RigidWorld::Impl {
     // the low stop). Past a stop, or far from both, the stops are ODE's own
     // (the world's ERP pushes a joint past its stop back).
     void speculative_stops(double h) {
-        constexpr double kMargin = 0.05;  // rad (m for a slider): turned on this close without motion
+        constexpr double kMargin = 0.15;  // rad (m for a slider): turned on this close without motion
         for (const JointSlot& js : joints) {
             // Soft stops (a stop stiffness) are springs: nothing to foresee.
             if (js.joint == nullptr || js.def.stop_stiffness > 0.0) continue;
@@ -815,7 +815,7 @@ void RigidWorld::step(double dt) {
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));
     m.update_stops(dt);
-    m.speculative_stops(dt);
+    if (m.settings.speculative_stops) m.speculative_stops(dt);
     if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
     m.contacts = 0;
     m.build_groups();

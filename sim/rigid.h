@@ -97,6 +97,10 @@ struct RigidSettings {
     // alone. ODE alone corrects drift by ERP, a fifth per step, so a tumbling
     // ragdoll's joints stand centimetres apart; 0: ODE alone.
     int position_iterations = 2;
+    // Joint stops turned on a step early near a stop (Box2D's speculative
+    // limits; see RigidWorld::Impl::speculative_stops): a limb hit hard stops
+    // at its limit instead of swinging far past it and creeping back.
+    bool speculative_stops = true;
     // Bodies joined by joints, directly or through others (a ragdoll, a
     // chain), collide with each other only if true, and then only when three
     // or more joints apart. Off by default, as in most engines' ragdolls:

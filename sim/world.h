@@ -136,7 +136,7 @@ private:
     void step_once(Integrator integrator, double h);
     void solve_constraints(double h);  // positions projected, velocities corrected
     void plasticity(double h);
-    void watch();  // the watchdog after a substep, containing what it may
+    void watch();                  // the watchdog after a substep, containing what it may
     void update_body_colliders();  // the rigid bodies' parts where they are now, for the particles
 
     ParticleModel model_;

@@ -1,14 +1,18 @@
 // Rigid-body and ragdoll speed (issue targets, figures in the notes):
-//  - Pile20/wrapper: 20 ragdolls (320 bodies, 300 joints) dropped in a
-//    criss-cross pile, as the ragdoll-pile scene, through sim::RigidWorld:
+//  - Pile/wrapper: 20 ragdolls (320 bodies, 300 joints) dropped in a
+//    criss-cross pile, the ragdoll-pile scene's, through sim::RigidWorld with
+//    its shipped settings:
 //    ms per 1/60 s step over the first 2 s (the pile falls, lands and
 //    tangles: every contact is live). Target <= 1.65 ms (5% of a 33 ms frame).
-//  - Pile20/raw_ode: the same bodies, joints, contacts and solver settings
-//    written directly against ODE's C API, no wrapper: the wrapper (ids,
-//    sleep, limits as parameters) should cost <= 10% on top.
-//  - Pile20/world: the same through sim::World, as a scene runs it (adds
+//  - Pile/raw_ode: the same bodies, joints, contacts and solver settings
+//    written directly against ODE's C API, no wrapper.
+//  - Pile/wrapper_plain: the wrapper asked for what raw_ode does (no
+//    speculative stops, position iterations, gyroscopic RK4 or sleep): the
+//    wrapper itself (ids, groups, parameters) should cost <= 10% over raw_ode.
+//  - Pile/world: the same through sim::World, as a scene runs it (adds
 //    the watchdog over every body).
-//  - One/wrapper: one ragdoll falling onto the ground: target <= 0.1 ms.
+//  - Pile/wrapper/1: one ragdoll (the pile's first) falling onto the ground:
+//    target <= 0.1 ms.
 //
 // Each iteration builds a fresh world (not timed) and times 120 steps, so
 // every iteration measures the same 2 s of the same simulation.
@@ -35,8 +39,7 @@ sim::RigidModel pile(int count) {
     return model;
 }
 
-void Wrapper(benchmark::State& state) {
-    const sim::RigidModel model = pile(static_cast<int>(state.range(0)));
+void time_steps(benchmark::State& state, const sim::RigidModel& model) {
     for (auto _ : state) {
         state.PauseTiming();
         sim::RigidWorld world(model);
@@ -46,6 +49,20 @@ void Wrapper(benchmark::State& state) {
     }
     state.counters["ms_per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void Wrapper(benchmark::State& state) { time_steps(state, pile(static_cast<int>(state.range(0)))); }
+
+// The wrapper asked for no more than raw_ode does: no speculative stops,
+// position iterations, gyroscopic RK4 or sleep. Against raw_ode: the
+// wrapper's own cost; against wrapper: what those features cost.
+void Plain(benchmark::State& state) {
+    sim::RigidModel model = pile(static_cast<int>(state.range(0)));
+    model.settings.speculative_stops = false;
+    model.settings.position_iterations = 0;
+    model.settings.gyroscopic_rk4 = false;
+    model.settings.sleep = false;
+    time_steps(state, model);
 }
 
 void SceneWorld(benchmark::State& state) {
@@ -201,6 +218,7 @@ void RawOde(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(Wrapper)->Name("Pile/wrapper")->Arg(20)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(Plain)->Name("Pile/wrapper_plain")->Arg(20)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(RawOde)->Name("Pile/raw_ode")->Arg(20)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(SceneWorld)->Name("Pile/world")->Arg(20)->Unit(benchmark::kMillisecond);
 
