@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -136,6 +137,30 @@ std::string error_of(const WatchdogLimits& limits) {
         return e.what();
     }
     return "";
+}
+
+TEST(Watchdog, BodiesNonFiniteThenSpeedThenBoundsNamingTheBody) {
+    const WatchdogLimits limits{.max_speed = 100.0, .world_half_extent = 50.0};
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<Vec3> x = {Vec3(0, 1, 0), Vec3(60, 0, 0), Vec3(0, 0, 0)};
+    std::vector<Vec3> v = {Vec3(0, 0, 0), Vec3(0, 0, 0), Vec3(0, -150, 0)};
+    Verdict speed = check_bodies(limits, x, v, 7);
+    ASSERT_TRUE(speed.exploded());
+    EXPECT_EQ(speed.subject, "body");
+    EXPECT_EQ(speed.quantity, "speed") << "speed before bounds";
+    EXPECT_EQ(speed.index, 2u);
+    EXPECT_DOUBLE_EQ(speed.value, 150.0) << "m/s";
+    EXPECT_EQ(speed.frame, 7u);
+    EXPECT_EQ(speed.message("stack"), "stack: exploded at frame 7: body 2 speed 150 m/s > 100 m/s");
+    v[2] = Vec3::Zero();
+    const Verdict bounds = check_bodies(limits, x, v, 8);
+    EXPECT_EQ(bounds.quantity, "bounds");
+    EXPECT_EQ(bounds.index, 1u);
+    x[2] = Vec3(nan, 0, 0);
+    const Verdict non_finite = check_bodies(limits, x, v, 9);
+    EXPECT_EQ(non_finite.quantity, "position") << "non-finite first";
+    EXPECT_EQ(non_finite.index, 2u);
+    EXPECT_FALSE(check_bodies(limits, {Vec3(0, 1, 0)}, {Vec3(3, 0, 0)}, 1).exploded());
 }
 
 TEST(Watchdog, LimitsAreValidated) {

@@ -234,6 +234,28 @@ TEST(Rewind, PlasticRestLengthsAndRigidBodiesAreRewoundToo) {
     EXPECT_EQ(world.rigid()->hash(), straight.rigid()->hash());
 }
 
+TEST(Rigid, TheWatchdogWatchesBodiesToo) {
+    ParticleModel model;
+    BodyDef shot;
+    shot.shape = RigidShape::sphere;
+    shot.size = Vec3(0.1, 0, 0);
+    shot.position = Vec3(0, 5, 0);
+    shot.velocity = Vec3(300, 0, 0);  // m/s
+    model.rigid.bodies.push_back(BodyDef{});
+    model.rigid.bodies.push_back(shot);
+    model.rigid.settings.ground = false;
+    World world(model);
+    world.set_watchdog({.max_speed = 100.0});
+    world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+    ASSERT_TRUE(world.verdict().exploded());
+    EXPECT_EQ(world.verdict().subject, "body");
+    EXPECT_EQ(world.verdict().index, 1u);
+    EXPECT_EQ(world.verdict().quantity, "speed");
+    const std::uint64_t hash = world.rigid()->hash();
+    world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+    EXPECT_EQ(world.rigid()->hash(), hash) << "no steps after an explosion";
+}
+
 TEST(Rigid, ParticlesLandOnARigidBodyAndDoNotPushIt) {
     // One-way coupling: grains poured on a heavy box resting on the ground
     // stop on its top face; the box does not feel them.
