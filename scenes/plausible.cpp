@@ -4,6 +4,7 @@
 #include "render/gl_context.h"
 #include "render/renderer.h"
 #include "scenes/check.h"
+#include "scenes/report.h"
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
 
@@ -404,6 +405,13 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     check_cmd->add_option("--backend", check_args.backend, "osmesa or egl")->capture_default_str();
 
+    scenes::ReportOptions report_options;
+    std::string report_out = report_options.out.string();
+    CLI::App* report_cmd = app.add_subcommand(
+        "report", "Speed against error: work-precision, orders, energy drift, stability (Markdown, CSV, JSON, PNG)");
+    report_cmd->add_flag("--quick", report_options.quick, "Fewer dt values and timings (CI's run, under 60 s)");
+    report_cmd->add_option("--out", report_out, "Folder written (whole, or not at all)")->capture_default_str();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -415,6 +423,14 @@ int main(int argc, char** argv) {
         if (*list) return list_scenes();
         if (*run) return run_scene(run_options, run_output);
         if (*render_cmd) return render_scene(render_options, render_args);
+        if (*report_cmd) {
+            report_options.out = report_out;
+            const char* ci = std::getenv("CI");
+            report_options.progress = isatty(STDERR_FILENO) != 0 && (ci == nullptr || std::string(ci) != "true");
+            const auto md = scenes::write_report(report_options);
+            std::printf("report: %s\n", md.string().c_str());
+            return kExitOk;
+        }
         return check(check_args, check_options);
     } catch (const sim::InputError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());

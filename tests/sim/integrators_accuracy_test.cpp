@@ -2,7 +2,7 @@
 // Kepler orbit with e = 0.5), and its order of convergence measured over five
 // halvings of dt. Tolerances are in metres (position error at the end time).
 #include "sim/integrators.h"
-#include "tests/sim/problems.h"
+#include "sim/problems.h"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +17,8 @@
 
 namespace sim::test {
 namespace {
+
+using namespace sim::problems;
 
 const analytic::Oscillator kOscillator{1.0, 1.0, 0.0};  // m = 1 kg, k = 1 N/m: ω = 1 rad/s
 const Vec3 kOscX0{1.0, 0.0, 0.0};                       // m

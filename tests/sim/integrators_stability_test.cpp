@@ -3,7 +3,7 @@
 // and wider), the symplectic methods stay in a band without drift, backward
 // Euler loses energy. Energies are relative to the initial energy E0.
 #include "sim/integrators.h"
-#include "tests/sim/problems.h"
+#include "sim/problems.h"
 
 #include "sim/state_hash.h"
 
@@ -17,6 +17,8 @@
 
 namespace sim::test {
 namespace {
+
+using namespace sim::problems;
 
 const analytic::Oscillator kOscillator{1.0, 1.0, 0.0};  // ω = 1 rad/s
 constexpr double kDt = 0.1;                             // s, so ω·dt = 0.1

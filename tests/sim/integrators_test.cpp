@@ -2,7 +2,7 @@
 // (memory, force-evaluation counts). Accuracy lives in
 // integrators_accuracy_test.cpp, energy behaviour in integrators_stability_test.cpp.
 #include "sim/integrators.h"
-#include "tests/sim/problems.h"
+#include "sim/problems.h"
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,8 @@
 
 namespace sim::test {
 namespace {
+
+using namespace sim::problems;
 
 TEST(Table, NamesRoundTripAndAreUnique) {
     std::set<std::string_view> names;

@@ -4,7 +4,7 @@
 #include "sim/error.h"
 #include "sim/mass_spring.h"
 #include "sim/state_hash.h"
-#include "tests/sim/problems.h"
+#include "sim/problems.h"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +14,8 @@
 
 namespace sim::test {
 namespace {
+
+using namespace sim::problems;
 
 std::string error_of(const std::function<void()>& f) {
     try {

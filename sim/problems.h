@@ -1,5 +1,5 @@
-// Test problems with closed-form answers, built as particle models, shared by
-// the accuracy and stability tests.
+// Problems with closed-form answers, built as particle models: shared by the
+// accuracy and stability tests and by `plausible report`.
 #pragma once
 
 #include "sim/analytic.h"
@@ -7,7 +7,7 @@
 
 #include <numbers>
 
-namespace sim::test {
+namespace sim::problems {
 
 // A ball shot from the origin at (3, 4, 0) m/s under g = (0, -9.81, 0) m/s².
 inline const Vec3 kShotVelocity{3.0, 4.0, 0.0};
@@ -53,4 +53,4 @@ inline void run_to(World& world, Integrator integrator, double end_time, double 
     }
 }
 
-}  // namespace sim::test
+}  // namespace sim::problems

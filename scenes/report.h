@@ -1,0 +1,34 @@
+// `plausible report`: speed against error. Every integrator on problems with
+// exact answers (ballistic shot, harmonic and damped oscillators, Kepler
+// orbits of eccentricity 0.5 and 0.9, a large-amplitude pendulum on an XPBD
+// rod), over a sweep of dt: global error at the end time, energy error, cost
+// in force evaluations and in measured time per simulated second; the fitted
+// order of convergence; the Pareto front (at each error level, the cheapest
+// method); energy drift over long runs; and the largest stable dt of each
+// method on a stiff spring, found by bisection with the watchdog deciding.
+//
+// Output (into --out, written whole or not at all): report.md (tables, each
+// with a one-line conclusion), work_precision.csv, orders.csv, stability.csv,
+// report.json (`orders`: a list of {integrator, problem, fitted, expected};
+// `pareto`; `drift`; `stability`) and PNG plots drawn by gnuplot (Debian's
+// gnuplot-nox): work-precision and error-against-dt with reference slopes per
+// problem, energy over time, the stability limits.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace scenes {
+
+struct ReportOptions {
+    bool quick = false;                        // fewer dt values and repetitions: CI's run, under 60 s
+    std::filesystem::path out = "out/report";  // the directory written
+    bool progress = false;                     // a progress bar with ETA on stderr
+};
+
+// Writes the report; returns the path of report.md. Throws sim::InputError
+// when --out cannot be written or gnuplot is missing or fails (nothing is
+// left behind then).
+std::filesystem::path write_report(const ReportOptions& options);
+
+}  // namespace scenes

@@ -1,0 +1,114 @@
+// `plausible report --quick` (label report): the whole report written by the
+// code the command runs, then read back from report.json. It asserts what
+// theory says and the report must show: every fitted order within 0.15 of
+// the method's order, symplectic methods' energy error bounded over long runs
+// (and forward Euler's not), and the stiff spring flagged unstable at 1/60 s
+// for the explicit methods and stable for backward Euler.
+#include "scenes/report.h"
+#include "sim/error.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// One run of the quick report (the whole of it, about 17 s), then what it says.
+TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
+    const fs::path dir = fs::temp_directory_path() / ("plausible-report-test-" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    const auto start = std::chrono::steady_clock::now();
+    scenes::write_report({.quick = true, .out = dir / "report"});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("[ measured ] report --quick took %.1f s\n", seconds);
+    std::ifstream f(dir / "report" / "report.json");
+    const nlohmann::json json = nlohmann::json::parse(f);
+
+    // The files.
+    for (const char* name :
+         {"report.md", "report.json", "work_precision.csv", "orders.csv", "stability.csv",
+          "work_precision_oscillator.png", "error_vs_dt_kepler_e0.9.png", "energy.png", "stability.png"}) {
+        const fs::path p = dir / "report" / name;
+        ASSERT_TRUE(fs::exists(p)) << p;
+        EXPECT_GT(fs::file_size(p), 100u) << p;
+    }
+    std::ifstream png(dir / "report" / "energy.png", std::ios::binary);
+    char magic[4] = {};
+    png.read(magic, 4);
+    EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+    EXPECT_TRUE(json["quick"].get<bool>());
+    EXPECT_GE(json["dt_values_per_method"].get<int>(), 6);
+
+    // Fitted orders within 0.15 of theory.
+    int compared = 0;
+    std::set<std::string> problems;
+    for (const auto& o : json["orders"]) {
+        if (o["expected"].is_null()) continue;
+        const std::string who = o["integrator"].get<std::string>() + " on " + o["problem"].get<std::string>();
+        ASSERT_FALSE(o["fitted"].is_null()) << who << ": no fit (fewer than 3 errors in the fit band)";
+        EXPECT_NEAR(o["fitted"].get<double>(), o["expected"].get<int>(), 0.15) << who << ": fitted order";
+        problems.insert(o["problem"].get<std::string>());
+        ++compared;
+    }
+    EXPECT_GE(compared, 30) << "orders compared with theory";
+    for (const char* p : {"ballistic", "oscillator", "damped", "kepler_e0.5", "kepler_e0.9"}) {
+        EXPECT_EQ(problems.count(p), 1u) << p;
+    }
+
+    // Symplectic methods do not drift in energy; forward Euler does.
+    std::map<std::string, bool> bounded;  // integrator -> bounded on every problem
+    for (const auto& d : json["drift"]) {
+        const std::string name = d["integrator"].get<std::string>();
+        bounded[name] = (bounded.count(name) != 0 ? bounded[name] : true) && d["bounded"].get<bool>();
+        if (name != "forward_euler" && name != "backward_euler" && name != "rk4") {
+            EXPECT_LE(d["second_half"].get<double>(), 1.2 * d["first_half"].get<double>() + 1e-13)
+                << name << " on " << d["problem"].get<std::string>() << ": |E - E0| / E0 grows";
+        }
+    }
+    for (const char* s : {"symplectic_euler", "leapfrog", "velocity_verlet", "position_verlet"}) {
+        EXPECT_TRUE(bounded[s]) << s;
+    }
+    EXPECT_FALSE(bounded["forward_euler"]) << "forward Euler gains energy: the report must say it drifts";
+
+    // The stiff spring (ω h = 16.7 at 1/60 s): explicit methods flagged unstable, limits as theory says.
+    for (const auto& s : json["stability"]["limits"]) {
+        const std::string name = s["integrator"].get<std::string>();
+        const double dt = s["largest_stable_dt"].get<double>();  // s
+        if (name == "backward_euler") {
+            EXPECT_TRUE(s["stable_at_1_60"].get<bool>());
+            EXPECT_TRUE(s["always_stable"].get<bool>());
+        } else {
+            EXPECT_FALSE(s["stable_at_1_60"].get<bool>()) << name << " at ω h = 16.7";
+            EXPECT_GT(s["exploded_frame"].get<int>(), 0) << name;
+        }
+        if (name == "symplectic_euler" || name == "leapfrog" || name == "velocity_verlet" ||
+            name == "position_verlet") {
+            EXPECT_NEAR(dt, 2e-3, 2e-4) << name << ": s, theory 2/ω";
+        }
+        if (name == "rk4") EXPECT_NEAR(dt, 2.785e-3, 2.5e-4) << "s, theory 2.785/ω";
+    }
+    fs::remove_all(dir);
+}
+
+TEST(ReportOut, RefusesADirectoryHoldingSomethingElse) {
+    const fs::path dir = fs::temp_directory_path() / ("plausible-report-out-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "thesis.tex") << "mine";
+    EXPECT_THROW(scenes::write_report({.quick = true, .out = dir}), sim::InputError);
+    EXPECT_TRUE(fs::exists(dir / "thesis.tex")) << "left alone";
+    fs::remove_all(dir);
+}
+
+}  // namespace
