@@ -2,13 +2,16 @@
 
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/report_peers.h"
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
 
 #include "sim/analytic.h"
 #include "sim/error.h"
 #include "sim/integrators.h"
+#include "sim/mass_spring.h"
 #include "sim/problems.h"
+#include "sim/ragdoll.h"
 #include "sim/world.h"
 
 #include <nlohmann/json.hpp>
@@ -168,12 +171,21 @@ struct Crossings {
     }
 };
 
-Sample measure(const Problem& p, const IntegratorInfo& info, double dt, int repetitions) {
+// Timing: at least `repetitions` runs, and more while they add up to under
+// min_seconds (short runs are at the mercy of the clock); the median of all.
+struct Timing {
+    int repetitions = 1;
+    double min_seconds = 0.005;  // s
+};
+
+Sample measure(const Problem& p, const IntegratorInfo& info, double dt, Timing timing) {
+    int repetitions = timing.repetitions;
     Sample s{p.name, std::string(info.name), dt};
     s.steps = std::lround(p.end / dt);
     const sim::ParticleModel model = p.model();
     std::vector<double> times;
-    for (int r = 0; r < repetitions; ++r) {
+    double total = 0.0;  // s, timed so far
+    for (int r = 0; r < repetitions || (total < timing.min_seconds && r < 10000); ++r) {
         sim::World world(model);
         const double e0 = world.energy();
         Crossings crossings;
@@ -184,9 +196,10 @@ Sample measure(const Problem& p, const IntegratorInfo& info, double dt, int repe
             if (!p.exact) crossings.see(world.state().t, world.state().x.get(p.particle).x());
         }
         times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+        total += times.back();
         // A run of half a second or more times itself well enough: no repetitions.
         if (times.back() >= 0.5) repetitions = r + 1;
-        if (r + 1 < repetitions) continue;
+        if (r + 1 < repetitions || (total < timing.min_seconds && r + 1 < 10000)) continue;
         const double t = world.state().t;
         s.evaluations = world.force_evaluations() / t;
         s.exploded = world.verdict().exploded() || !world.state().x.get(p.particle).allFinite();
@@ -227,6 +240,53 @@ Fit fit_order(const std::vector<Sample>& samples) {
     for (const auto& [x, y] : xy) sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx);
     f.slope = sxy / sxx;
     return f;
+}
+
+// --- peers: boost::odeint on the same problems ----------------------------------------------
+
+Sample measure_peer(const Problem& p, const PeerInfo& peer, double dt, Timing timing) {
+    Sample s{p.name, peer.name, dt};
+    s.steps = std::lround(p.end / dt);
+    const sim::ParticleModel model = p.model();
+    const Vec3 x0 = model.particles[p.particle].position, v0 = model.particles[p.particle].velocity;
+    std::vector<double> times;
+    PeerRun run;
+    double total = 0.0;  // s, timed so far
+    for (int r = 0; r < timing.repetitions || (total < timing.min_seconds && r < 10000); ++r) {
+        run = run_peer(peer.name, p.name, x0, v0, dt, s.steps);
+        times.push_back(run.seconds);
+        total += run.seconds;
+        if (run.seconds >= 0.5) break;
+    }
+    std::sort(times.begin(), times.end());
+    const double t = static_cast<double>(s.steps) * dt;
+    s.seconds = times[times.size() / 2] / p.end;
+    s.evaluations = peer.evaluations * static_cast<double>(s.steps) / t;
+    s.exploded = !run.x.allFinite();
+    if (!s.exploded) s.error = (run.x - p.exact(t).x).norm();
+    return s;
+}
+
+// Our cost at the peer's error, interpolated log-log along our sweep, over
+// the peer's: the median over the peer's points in the fit band. NaN when
+// the curves do not overlap.
+double cost_ratio(const std::vector<Sample>& ours, const std::vector<Sample>& theirs) {
+    std::vector<double> ratios;
+    for (const Sample& t : theirs) {
+        if (!std::isfinite(t.error) || t.error < kFitFloor || t.error > kFitCeiling) continue;
+        for (std::size_t i = 0; i + 1 < ours.size(); ++i) {
+            const Sample &a = ours[i], &b = ours[i + 1];  // a coarser than b: a.error > b.error
+            if (!(std::isfinite(a.error) && std::isfinite(b.error)) || a.error <= 0 || b.error <= 0) continue;
+            if (!(t.error <= a.error && t.error >= b.error) || a.error == b.error) continue;
+            const double f = std::log(t.error / a.error) / std::log(b.error / a.error);
+            const double seconds = std::exp(std::log(a.seconds) + f * (std::log(b.seconds) - std::log(a.seconds)));
+            ratios.push_back(seconds / t.seconds);
+            break;
+        }
+    }
+    if (ratios.empty()) return kNaN;
+    std::sort(ratios.begin(), ratios.end());
+    return ratios[ratios.size() / 2];
 }
 
 // --- energy drift over long runs ----------------------------------------------------------
@@ -308,6 +368,175 @@ Stability stability(const IntegratorInfo& info, int bisections) {
     }
     s.largest_dt = lo;
     return s;
+}
+
+// --- stability maps: hard cases, per method --------------------------------------------------
+
+// A hard case whose stiffness can be scaled: the largest stable dt at its own
+// stiffness, and the largest stable stiffness at 1/60 s, per method, the
+// watchdog deciding.
+struct HardCase {
+    std::string name;
+    std::string title;
+    double stiffness = 1.0;  // N/m, nominal
+    double end = 1.0;        // s simulated per trial
+    std::function<sim::ParticleModel(double k)> model;
+    sim::WatchdogLimits limits;
+};
+
+std::vector<HardCase> hard_cases() {
+    std::vector<HardCase> out;
+    {
+        HardCase c{"stiff_spring", "stiff spring, 1 kg", kStiffK, kStiffEnd, [](double k) {
+                       return sim::problems::oscillator_model({1.0, k, 0.0}, Vec3(0.01, 0, 0), Vec3::Zero());
+                   }};
+        c.limits.max_speed = 100.0 * std::sqrt(kStiffK) * 0.01;  // m/s, as stiff_run
+        out.push_back(c);
+    }
+    {
+        HardCase c{"cloth", "cloth 12x12, 0.5 kg, hung by one edge", 2000.0, 1.0, [](double k) {
+                       sim::ParticleModel m;
+                       sim::ClothDef cloth;
+                       cloth.nx = cloth.ny = 12;
+                       cloth.mass = 0.5;
+                       cloth.pins = sim::ClothDef::Pins::edge;
+                       cloth.links.stiffness = k;
+                       sim::add_cloth(m, cloth);
+                       m.forces.push_back(sim::UniformGravity{Vec3(0, -kG, 0)});
+                       return m;
+                   }};
+        c.limits.max_speed = 50.0;  // m/s: a 2 m cloth falling 2 m reaches 6
+        c.limits.world_half_extent = 100.0;
+        out.push_back(c);
+    }
+    {
+        HardCase c{"chain_1000_1", "chain of 8 links of 1 g and a 1 kg ball (1000:1)", 2000.0, 1.0, [](double k) {
+                       sim::ParticleModel m;
+                       sim::RopeDef rope;
+                       rope.segments = 8;
+                       rope.mass = 0.009;  // kg: 1 g a node
+                       rope.start = Vec3(0, 2, 0);
+                       rope.end = Vec3(1.6, 2, 0);
+                       rope.links.stiffness = k;
+                       const sim::BodyRange r = sim::add_rope(m, rope);
+                       const auto last = static_cast<std::uint32_t>(r.first + r.count - 1);
+                       m.particles.push_back({Vec3(1.8, 2, 0), Vec3::Zero(), 1.0, false});
+                       m.forces.push_back(
+                           sim::Springs{{{last, static_cast<std::uint32_t>(m.particles.size() - 1), 0.2, k, 0.0}}});
+                       m.forces.push_back(sim::UniformGravity{Vec3(0, -kG, 0)});
+                       return m;
+                   }};
+        c.limits.max_speed = 50.0;
+        c.limits.world_half_extent = 100.0;
+        out.push_back(c);
+    }
+    return out;
+}
+
+bool explodes(const HardCase& c, const IntegratorInfo& info, double dt, double k) {
+    sim::World world(c.model(k));
+    world.set_watchdog(c.limits);
+    const long steps = std::max(1L, std::lround(c.end / dt));
+    for (long i = 0; i < steps && !world.verdict().exploded(); ++i) world.step({info.id, dt, 1});
+    return world.verdict().exploded();
+}
+
+// The largest value in [lo, hi] at which `stable` holds, by bisection in log
+// (stable below a threshold, unstable above it). `hi` when stable there;
+// 0 when unstable at lo.
+double largest_stable(double lo, double hi, int bisections, const std::function<bool(double)>& stable) {
+    if (stable(hi)) return hi;
+    if (!stable(lo)) return 0.0;
+    for (int i = 0; i < bisections; ++i) {
+        const double mid = std::sqrt(lo * hi);
+        (stable(mid) ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+struct MapCell {
+    std::string hard_case, integrator;
+    double largest_dt = 0.0;         // s; the search's upper end if always stable, 0 if unstable at its lower end
+    double largest_stiffness = 0.0;  // N/m at 1/60 s (0: none; NaN: not a spring case)
+};
+
+constexpr double kDtLo = 1e-5, kDtHi = 0.25;  // s, the dt search
+constexpr double kKLo = 1.0, kKHi = 1e10;     // N/m, the stiffness search at 1/60 s
+
+// A ragdoll thrown at 10 m/s steps with ODE whatever the integrator: the
+// largest dt of ODE's quickstep (the ragdoll scene's 40 iterations) at which
+// it stays finite, under 100 m/s and with its joints within 10 cm after 2 s.
+double ragdoll_largest_dt(int bisections) {
+    const SceneDef scene = load_scene(resolve_scene("ragdoll"));
+    auto stable = [&](double dt) {
+        sim::RigidSettings settings = scene.model.rigid.settings;
+        settings.sleep = false;
+        sim::RigidWorld world(settings);
+        sim::RagdollDef def;
+        def.position = Vec3(0, 1.5, 0);
+        def.velocity = Vec3(6, 8, 0);
+        def.angular_velocity = Vec3(1, 0, -3);
+        const sim::Ragdoll doll = sim::create_ragdoll(world, def);
+        const long steps = std::max(1L, std::lround(2.0 / dt));
+        for (long i = 0; i < steps; ++i) {
+            world.step(dt);
+            for (const sim::BodyId b : doll.bodies) {
+                const sim::BodyState st = world.state(b);
+                if (!st.position.allFinite() || st.velocity.norm() > 100.0) return false;
+            }
+        }
+        for (const sim::JointId j : doll.joints)
+            if (world.joint_separation(j) > 0.1) return false;
+        return true;
+    };
+    return largest_stable(1e-3, kDtHi, bisections, stable);
+}
+
+// --- the XPBD "small steps" claim -----------------------------------------------------------
+
+// Macklin et al. (2019): n substeps of one iteration beat one step of n
+// iterations. A hanging rope and a cloth held by one edge, inextensible XPBD
+// links without tethers, 2 s at 1/60 s frames: the largest strain at the end
+// and the time per frame, either way.
+struct SmallSteps {
+    std::string body;  // rope, cloth
+    std::string way;   // substeps, iterations
+    int n = 1;
+    double strain = 0.0;  // max |length / rest - 1| over the links at the end
+    double ms_per_frame = 0.0;
+};
+
+SmallSteps small_steps(const std::string& body, bool substeps, int n) {
+    sim::ParticleModel m;
+    sim::LinkSettings links;
+    links.kind = sim::LinkSettings::Kind::constraints;
+    links.compliance = 0.0;
+    links.tethers = false;
+    if (body == "rope") {
+        sim::RopeDef rope;
+        rope.segments = 20;
+        rope.links = links;
+        sim::add_rope(m, rope);
+    } else {
+        sim::ClothDef cloth;
+        cloth.nx = cloth.ny = 16;
+        cloth.pins = sim::ClothDef::Pins::edge;
+        cloth.links = links;
+        sim::add_cloth(m, cloth);
+    }
+    m.forces.push_back(sim::UniformGravity{Vec3(0, -kG, 0)});
+    m.constraints.iterations = substeps ? 1 : n;
+    sim::World world(m);
+    const sim::StepSettings step{Integrator::symplectic_euler, 1.0 / 60.0, substeps ? n : 1};
+    const auto start = Clock::now();
+    for (int f = 0; f < 120; ++f) world.step(step);
+    SmallSteps r{body, substeps ? "substeps" : "iterations", n};
+    r.ms_per_frame = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / 120.0;
+    for (const sim::DistanceConstraint& c : m.constraints.distance) {
+        const double length = (world.state().x.get(c.i) - world.state().x.get(c.j)).norm();
+        r.strain = std::max(r.strain, std::abs(length / c.rest - 1.0));
+    }
+    return r;
 }
 
 // --- every shipped scene against the frame budget -----------------------------------------
@@ -443,6 +672,7 @@ fs::path write_report(const ReportOptions& options) {
     try {
         const int dt_count = options.quick ? 6 : 8;
         const int repetitions = options.quick ? 1 : 5;
+        const Timing timing{repetitions, options.quick ? 0.005 : 0.02};
         const std::vector<Problem> list = problems();
         const auto& methods = sim::kIntegrators;
         Progress progress(options.progress,
@@ -460,7 +690,7 @@ fs::path write_report(const ReportOptions& options) {
             for (const IntegratorInfo& info : methods) {
                 std::vector<Sample> run;
                 double dt = coarsest_dt(p, info);
-                for (int k = 0; k < dt_count; ++k, dt /= 2.0) run.push_back(measure(p, info, dt, repetitions));
+                for (int k = 0; k < dt_count; ++k, dt /= 2.0) run.push_back(measure(p, info, dt, timing));
                 const Fit f = fit_order(run);
                 fits[p.name][std::string(info.name)] = f;
                 const int expected = expected_order(p, info);
@@ -475,12 +705,36 @@ fs::path write_report(const ReportOptions& options) {
             }
         }
 
+        // Peers: odeint's steppers on the same problems and dt sweeps, our cost at their error as a ratio.
+        struct PeerRow {
+            std::string peer, problem, ours;
+            Fit fit;
+            double ratio = kNaN;  // our seconds / theirs at equal error
+        };
+        std::vector<PeerRow> peer_rows;
+        std::vector<Sample> peer_samples;
+        for (const Problem& p : list) {
+            if (!peer_knows(p.name)) continue;
+            for (const PeerInfo& peer : peers()) {
+                if (p.drag && !peer.velocity_forces) continue;
+                std::vector<Sample> run;
+                double dt = peer.order >= 4 ? p.dt4 : p.dt2;
+                for (int k = 0; k < dt_count; ++k, dt /= 2.0) run.push_back(measure_peer(p, peer, dt, timing));
+                std::vector<Sample> ours;
+                for (const Sample& s : samples)
+                    if (s.problem == p.name && s.integrator == peer.ours) ours.push_back(s);
+                peer_rows.push_back({peer.name, p.name, peer.ours, fit_order(run), cost_ratio(ours, run)});
+                peer_samples.insert(peer_samples.end(), run.begin(), run.end());
+            }
+            progress.step("peers " + p.name);
+        }
+
         // A game's frame: dt = 1/60 s split into 1 to 32 substeps, every method, every problem.
         const std::vector<int> substeps = {1, 2, 4, 8, 16, 32};
         std::vector<Sample> frame_samples;
         for (const Problem& p : list) {
             for (const IntegratorInfo& info : methods) {
-                for (const int n : substeps) frame_samples.push_back(measure(p, info, 1.0 / 60.0 / n, repetitions));
+                for (const int n : substeps) frame_samples.push_back(measure(p, info, 1.0 / 60.0 / n, timing));
             }
             progress.step("frame budget " + p.name);
         }
@@ -526,6 +780,32 @@ fs::path write_report(const ReportOptions& options) {
             limits.push_back(stability(info, options.quick ? 14 : 30));
             progress.step("stability " + std::string(info.name));
         }
+
+        // 3b. The stability map: each hard case per method, and the ragdoll through ODE.
+        std::vector<MapCell> cells;
+        const std::vector<HardCase> cases = hard_cases();
+        const int bisections = options.quick ? 8 : 16;
+        for (const HardCase& c : cases) {
+            for (const IntegratorInfo& info : methods) {
+                MapCell cell{c.name, std::string(info.name)};
+                cell.largest_dt = largest_stable(kDtLo, kDtHi, bisections,
+                                                 [&](double dt) { return !explodes(c, info, dt, c.stiffness); });
+                cell.largest_stiffness =
+                    largest_stable(kKLo, kKHi, bisections, [&](double k) { return !explodes(c, info, 1.0 / 60.0, k); });
+                cells.push_back(cell);
+            }
+            progress.step("stability map " + c.name);
+        }
+        const double ragdoll_dt = ragdoll_largest_dt(bisections);
+        progress.step("stability map ragdoll");
+        std::vector<SmallSteps> steps_claim;
+        for (const std::string body : {"rope", "cloth"}) {
+            for (const int n : {1, 2, 4, 8, 16}) {
+                steps_claim.push_back(small_steps(body, true, n));
+                steps_claim.push_back(small_steps(body, false, n));
+            }
+        }
+        progress.step("XPBD small steps");
 
         // 4. Every shipped scene against the frame budget.
         std::vector<SceneCost> costs;
@@ -575,15 +855,26 @@ fs::path write_report(const ReportOptions& options) {
         // Plots. Work-precision and error against dt, one PNG per problem.
         for (const Problem& p : list) {
             std::ostringstream data, wp, ed;
+            // Our integrators, then odeint's (dashed, grey), one data block each.
+            std::vector<std::pair<std::string, std::string>> series;  // name, gnuplot style
+            for (std::size_t m = 0; m < methods.size(); ++m) series.emplace_back(methods[m].name, style(m));
+            static const char* greys[] = {"#000000", "#555555", "#999999"};
+            for (std::size_t m = 0; m < peers().size(); ++m) {
+                series.emplace_back(peers()[m].name, "dt 2 lc rgb '" + std::string(greys[m % 3]) + "' pt " +
+                                                         std::to_string(4 + 2 * static_cast<int>(m)));
+            }
             std::size_t k = 0;
-            for (const IntegratorInfo& info : methods) {
-                data << "# " << info.name << "\n";
+            for (const auto& [name, look] : series) {
                 std::vector<const Sample*> line;  // the sweep and the frame substeps, by dt
-                for (const Sample& s : samples) {
-                    if (s.problem == p.name && s.integrator == info.name && std::isfinite(s.error) && s.error > 0) {
-                        line.push_back(&s);
+                for (const std::vector<Sample>* from : {&samples, &peer_samples}) {
+                    for (const Sample& s : *from) {
+                        if (s.problem == p.name && s.integrator == name && std::isfinite(s.error) && s.error > 0) {
+                            line.push_back(&s);
+                        }
                     }
                 }
+                if (line.empty()) continue;
+                data << "# " << name << "\n";
                 std::sort(line.begin(), line.end(), [](const Sample* a, const Sample* b) { return a->dt > b->dt; });
                 for (const Sample* s : line) {
                     data << fmt("%.9g", s->dt) << ' ' << fmt("%.6e", s->error) << ' ' << fmt("%.6e", s->seconds) << ' '
@@ -591,10 +882,10 @@ fs::path write_report(const ReportOptions& options) {
                 }
                 data << "\n\n";
                 const std::string sep = k == 0 ? "plot " : ", \\\n     ";
-                wp << sep << "'" << p.name << ".dat' index " << k << " using 3:2 with linespoints " << style(k)
-                   << " title '" << info.name << "' noenhanced";
-                ed << sep << "'" << p.name << ".dat' index " << k << " using 1:2 with linespoints " << style(k)
-                   << " title '" << info.name << "' noenhanced";
+                wp << sep << "'" << p.name << ".dat' index " << k << " using 3:2 with linespoints " << look
+                   << " title '" << name << "' noenhanced";
+                ed << sep << "'" << p.name << ".dat' index " << k << " using 1:2 with linespoints " << look
+                   << " title '" << name << "' noenhanced";
                 ++k;
             }
             write_file(tmp / (p.name + ".dat"), data.str());
@@ -741,13 +1032,99 @@ fs::path write_report(const ReportOptions& options) {
                     "     NaN with lines dt 2 lc rgb '#d62728' title 'physics 30% (10 ms)', \\\n"
                     "     NaN with lines lc rgb '#000000' title 'the frame (33 ms)'\n");
         }
+        nlohmann::json peer_json = nlohmann::json::array();
+        std::ostringstream peer_csv;
+        peer_csv << "peer,problem,compared_with,fitted,ratio_ours_over_theirs\n";
+        for (const PeerRow& r : peer_rows) {
+            peer_json.push_back(
+                {{"peer", r.peer},
+                 {"problem", r.problem},
+                 {"compared_with", r.ours},
+                 {"fitted", std::isfinite(r.fit.slope) ? nlohmann::json(r.fit.slope) : nlohmann::json(nullptr)},
+                 {"cost_ratio", std::isfinite(r.ratio) ? nlohmann::json(r.ratio) : nlohmann::json(nullptr)}});
+            peer_csv << r.peer << ',' << r.problem << ',' << r.ours << ','
+                     << (std::isfinite(r.fit.slope) ? fmt("%.3f", r.fit.slope) : "") << ','
+                     << (std::isfinite(r.ratio) ? fmt("%.3f", r.ratio) : "") << '\n';
+        }
+        j["peers"] = peer_json;
+        write_file(tmp / "peers.csv", peer_csv.str());
+        {
+            nlohmann::json map = nlohmann::json::array();
+            std::ostringstream csv;
+            csv << "case,integrator,largest_stable_dt,largest_stable_stiffness_at_1_60\n";
+            for (const MapCell& c : cells) {
+                map.push_back({{"case", c.hard_case},
+                               {"integrator", c.integrator},
+                               {"largest_stable_dt", c.largest_dt},
+                               {"largest_stable_stiffness_at_1_60", c.largest_stiffness}});
+                csv << c.hard_case << ',' << c.integrator << ',' << fmt("%.6g", c.largest_dt) << ','
+                    << fmt("%.6g", c.largest_stiffness) << '\n';
+            }
+            csv << "ragdoll,ode_quickstep," << fmt("%.6g", ragdoll_dt) << ",\n";
+            j["stability_map"] = {{"dt_search", {kDtLo, kDtHi}},
+                                  {"stiffness_search", {kKLo, kKHi}},
+                                  {"cells", map},
+                                  {"ragdoll_ode_largest_dt", ragdoll_dt}};
+            write_file(tmp / "stability_map.csv", csv.str());
+            nlohmann::json claim = nlohmann::json::array();
+            for (const SmallSteps& r : steps_claim) {
+                claim.push_back({{"body", r.body},
+                                 {"way", r.way},
+                                 {"n", r.n},
+                                 {"strain", r.strain},
+                                 {"ms_per_frame", r.ms_per_frame}});
+            }
+            j["small_steps"] = claim;
+
+            // The heat map: rows the cases (and the ragdoll), columns the methods (and ODE).
+            auto label = [](double dt) {
+                if (dt <= 0.0) return std::string("<10 µs");
+                if (dt >= kDtHi) return std::string("≥250 ms");
+                return dt >= 1e-3 ? fmt("%.3g ms", 1e3 * dt) : fmt("%.3g µs", 1e6 * dt);
+            };
+            std::ostringstream data, xt, yt;
+            for (std::size_t y = 0; y < cases.size(); ++y) {
+                for (std::size_t x = 0; x < methods.size(); ++x) {
+                    const MapCell& c = cells[y * methods.size() + x];
+                    data << x << ' ' << y << ' ' << fmt("%.4f", std::log10(std::max(c.largest_dt, kDtLo / 2))) << " \""
+                         << label(c.largest_dt) << "\"\n";
+                }
+                data << methods.size() << ' ' << y << " NaN \"\"\n\n";
+            }
+            for (std::size_t x = 0; x < methods.size(); ++x) data << x << ' ' << cases.size() << " NaN \"\"\n";
+            data << methods.size() << ' ' << cases.size() << ' ' << fmt("%.4f", std::log10(ragdoll_dt)) << " \""
+                 << label(ragdoll_dt) << "\"\n";
+            write_file(tmp / "stability_map.dat", data.str());
+            for (std::size_t x = 0; x < methods.size(); ++x)
+                xt << (x ? ", " : "") << "'" << methods[x].name << "' " << x;
+            xt << ", 'ODE quickstep' " << methods.size();
+            for (std::size_t y = 0; y < cases.size(); ++y) yt << (y ? ", " : "") << "'" << cases[y].name << "' " << y;
+            yt << ", 'ragdoll (ODE)' " << cases.size();
+            gnuplot(
+                tmp, "stability_map",
+                std::string(kTerminal) +
+                    "set output 'stability_map.png'\n"
+                    "set title 'Largest stable dt per method (white: 1/60 s; blue: a game frame is stable; the watchdog decides)'\n"
+                    "set xtics (" +
+                    xt.str() + ") rotate by -30 noenhanced\nset ytics (" + yt.str() +
+                    ") noenhanced\n"
+                    "set xrange [-0.5:" +
+                    std::to_string(methods.size()) + ".5]\nset yrange [-0.5:" + std::to_string(cases.size()) +
+                    ".5]\nset cbrange [-5:-0.6]\nset cblabel 'log_{10} dt (s)'\n"
+                    "set palette defined (0 '#b2182b', 0.5 '#f4a582', 0.73 '#f7f7f7', 0.85 '#92c5de', 1 '#2166ac')\n"
+                    "set view map\n"
+                    "plot 'stability_map.dat' using 1:2:3 with image notitle, '' using 1:2:4 with labels font ',10' "
+                    "notitle\n");
+        }
         write_file(tmp / "report.json", j.dump(2) + "\n");
 
         // report.md
         std::ostringstream md;
         md << "# Speed against error\n\n"
-           << (options.quick ? "Quick run (`report --quick`): 6 dt values per method, one timing each.\n\n"
-                             : "Full run: 8 dt values per method, timings the median of 5.\n\n")
+           << (options.quick ? "Quick run (`report --quick`): 6 dt values per method; each timing the median of "
+                               "runs adding up to 5 ms.\n\n"
+                             : "Full run: 8 dt values per method; each timing the median of at least 5 runs adding "
+                               "up to 20 ms.\n\n")
            << "Every integrator on problems with exact answers. Error is the distance from the closed form at the "
               "end time (the pendulum: its period's error); cost is measured wall time per simulated second on this "
               "machine, and force evaluations (machine-independent) in `work_precision.csv`.\n\n";
@@ -846,6 +1223,32 @@ fs::path write_report(const ReportOptions& options) {
               "these smooth problems RK4's four evaluations a step buy steps large enough to win almost every "
               "budget; the Verlet methods come next, one evaluation a step and bounded energy; the Euler methods "
               "never pay off.\n\n";
+        md << "## Peers: boost::odeint\n\n"
+           << "odeint's steppers on the same problems and dt sweeps (dashed in the plots). The ratio is our cost at "
+              "the same error over theirs (wall time, median over their points; below 1: ours is cheaper).\n\n"
+           << "| peer | compared with | problem | fitted order | our cost / theirs |\n|---|---|---|---|---|\n";
+        for (const PeerRow& r : peer_rows) {
+            md << "| " << r.peer << " | " << r.ours << " | " << r.problem << " | "
+               << (std::isfinite(r.fit.slope) ? fmt("%.2f", r.fit.slope) : std::string("exact")) << " | "
+               << (std::isfinite(r.ratio) ? fmt("%.2f", r.ratio) : std::string("n/a")) << " |\n";
+        }
+        {
+            std::map<std::string, std::vector<double>> by;
+            for (const PeerRow& r : peer_rows)
+                if (std::isfinite(r.ratio)) by[r.peer].push_back(r.ratio);
+            md << "\nThese problems are one particle. Each of our steps goes through the whole World: the force "
+                  "generators' dispatch over particle arrays (a pinned centre is a second particle), the constraint, "
+                  "collision and watchdog passes; odeint integrates one inlined 3-vector. That fixed cost per step is "
+                  "what the ratio measures here; it is spread over the particles of a real scene (`make bench`: cloth "
+                  "and fountain). odeint's velocity_verlet is first order on the damped oscillator (its force sees the "
+                  "old velocity), ours second (it predicts the new one).\n";
+            for (auto& [peer, v] : by) {
+                std::sort(v.begin(), v.end());
+                md << "- Against " << peer << ": our cost at equal error is " << fmt("%.2f", v[v.size() / 2])
+                   << "x theirs (median over problems).\n";
+            }
+            md << '\n';
+        }
         md << "## Energy over long runs\n\n![energy](energy.png)\n\n"
            << "| integrator | problem | max error, first half | max error, second half | verdict "
               "|\n|---|---|---|---|---|\n";
@@ -876,6 +1279,48 @@ fs::path write_report(const ReportOptions& options) {
               "amplitude grows at every dt (here: within 2 s unless dt is a few µs); backward Euler is stable at "
               "every dt. At a game's 1/60 s only backward Euler survives (or constraints instead of the spring: "
               "`rope-stiff`).\n";
+        md << "\n## Stability map\n\n![stability map](stability_map.png)\n\n"
+           << "The largest stable dt of each method on each hard case at its own stiffness, and the largest stable "
+              "stiffness at a game's 1/60 s, by bisection (the watchdog decides: speed, bounds, NaN). The ragdoll "
+              "steps "
+              "with ODE's own integrator (quickstep, 40 iterations), whatever the scene's.\n\n"
+           << "| case | integrator | largest stable dt | largest stable stiffness at 1/60 s |\n|---|---|---|---|\n";
+        for (const MapCell& c : cells) {
+            md << "| " << c.hard_case << " | " << c.integrator << " | "
+               << (c.largest_dt >= kDtHi ? ">= " + fmt("%.3g", kDtHi) + " s"
+                   : c.largest_dt > 0    ? fmt("%.3g", c.largest_dt) + " s"
+                                         : "< " + fmt("%.0e", kDtLo) + " s")
+               << " | "
+               << (c.largest_stiffness >= kKHi ? ">= " + fmt("%.0e", kKHi) + " N/m"
+                   : c.largest_stiffness > 0   ? fmt("%.3g", c.largest_stiffness) + " N/m"
+                                               : "< " + fmt("%.0f", kKLo) + " N/m")
+               << " |\n";
+        }
+        md << "| ragdoll | ODE quickstep | " << fmt("%.3g", ragdoll_dt) << " s | (joints, not springs) |\n\n"
+           << "The explicit methods' limits follow ω h < 2 (symplectic, Verlet) and 2.8 (RK4) of the case's "
+              "stiffest mode; the 1000:1 chain's light links set that mode, not the heavy ball. Backward Euler's "
+              "limit is the search's end: implicit, it trades accuracy (damping) for stability.\n\n";
+        md << "## XPBD: small steps or more iterations?\n\n"
+           << "Inextensible links without tethers, 2 s hanging at 1/60 s frames: n substeps of one iteration "
+              "against one step of n iterations. Strain is the worst link's stretch at the end.\n\n"
+           << "| body | n | strain, n substeps | strain, n iterations | ms per frame, substeps | ms per frame, "
+              "iterations |\n"
+              "|---|---|---|---|---|---|\n";
+        int substeps_win = 0, pairs = 0;
+        for (std::size_t i = 0; i + 1 < steps_claim.size(); i += 2) {
+            const SmallSteps &a = steps_claim[i], &b = steps_claim[i + 1];
+            md << "| " << a.body << " | " << a.n << " | " << fmt("%.2e", a.strain) << " | " << fmt("%.2e", b.strain)
+               << " | " << fmt("%.3f", a.ms_per_frame) << " | " << fmt("%.3f", b.ms_per_frame) << " |\n";
+            if (a.n > 1) {
+                ++pairs;
+                if (a.strain < b.strain) ++substeps_win;
+            }
+        }
+        md << "\nWhat we find: n substeps give the lower strain in " << substeps_win << " of " << pairs
+           << " comparisons at equal n ("
+           << (substeps_win * 2 > pairs ? "the claim holds here" : "the claim does not hold here")
+           << "); a substep costs a whole integration and collision pass, an iteration only a constraint sweep, so "
+              "compare the times too.\n";
         md << "\n## Every scene against the frame budget\n\n![scene costs](scene_costs.png)\n\n"
            << "Per 30 FPS frame (33 ms): physics is every frame step that 1/30 s of simulated time takes (a scene "
               "at 1/60 s runs two), timed around the whole step; render is one 1280x720 frame with 4x MSAA on OSMesa "

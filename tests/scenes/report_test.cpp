@@ -2,8 +2,9 @@
 // code the command runs, then read back from report.json. It asserts what
 // theory says and the report must show: every fitted order within 0.15 of
 // the method's order, symplectic methods' energy error bounded over long runs
-// (and forward Euler's not), and the stiff spring flagged unstable at 1/60 s
-// for the explicit methods and stable for backward Euler.
+// (and forward Euler's not), the stiff spring flagged unstable at 1/60 s
+// for the explicit methods and stable for backward Euler, odeint's peers
+// measured, and every shipped scene costed.
 #include "scenes/report.h"
 #include "sim/error.h"
 
@@ -98,6 +99,28 @@ TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
             EXPECT_NEAR(dt, 2e-3, 2e-4) << name << ": s, theory 2/ω";
         }
         if (name == "rk4") EXPECT_NEAR(dt, 2.785e-3, 2.5e-4) << "s, theory 2.785/ω";
+    }
+    // Peers: odeint's steppers measured on the same problems, their orders as theory says.
+    int peers = 0;
+    for (const auto& r : json["peers"]) {
+        const std::string who = r["peer"].get<std::string>() + " on " + r["problem"].get<std::string>();
+        if (r["problem"] == "oscillator" || r["problem"] == "kepler_e0.5") {
+            ASSERT_FALSE(r["fitted"].is_null()) << who;
+            const double expected = r["peer"] == "odeint_velocity_verlet" ? 2.0 : 4.0;
+            EXPECT_NEAR(r["fitted"].get<double>(), expected, 0.15) << who << ": fitted order";
+            EXPECT_FALSE(r["cost_ratio"].is_null()) << who << ": no overlap of errors to compare costs at";
+            ++peers;
+        }
+    }
+    EXPECT_EQ(peers, 6) << "three odeint steppers on two problems";
+
+    // Every shipped scene costed, none exploded.
+    const auto& costs = json["scenes"]["costs"];
+    EXPECT_GE(costs.size(), 20u);
+    for (const auto& c : costs) {
+        EXPECT_NE(c["verdict"], "exploded") << c["scene"];
+        EXPECT_GT(c["physics_ms_per_frame"].get<double>(), 0.0) << c["scene"];
+        EXPECT_GT(c["render_ms_per_frame"].get<double>(), 0.0) << c["scene"];
     }
     fs::remove_all(dir);
 }
