@@ -1203,6 +1203,23 @@ fs::path write_report(const ReportOptions& options) {
             }
             md << '\n';
         }
+        md << "For an error of 1e-3 (m, or s for the pendulum) at 1/60 s frames, the fewest force evaluations a "
+              "frame:\n\n";
+        for (const Problem& p : list) {
+            const Sample* best = nullptr;
+            for (const Sample& s : frame_samples) {
+                if (!s.exploded && std::isfinite(s.error) && s.error <= 1e-3 &&
+                    (best == nullptr || s.evaluations < best->evaluations)) {
+                    best = &s;
+                }
+            }
+            md << "- " << p.name << ": "
+               << (best ? best->integrator + " with " + std::to_string(std::lround(1.0 / 60.0 / best->dt)) +
+                              " substep(s), " + fmt("%.0f", best->evaluations / 60.0) + " evaluations a frame"
+                        : std::string("none of the measured substeps reaches it"))
+               << '\n';
+        }
+        md << '\n';
         md << "## Which method for which budget\n\n"
            << "The cheapest measured point whose error is within the budget, per problem (error in the problem's "
               "unit):\n\n"
