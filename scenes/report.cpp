@@ -637,7 +637,7 @@ public:
         if (!on_) return;
         const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
         const double eta = done_ > 0 ? elapsed / done_ * (total_ - done_) : 0.0;
-        const int width = 30, filled = total_ > 0 ? width * done_ / total_ : width;
+        const int width = 30, filled = total_ > 0 ? std::clamp(width * done_ / total_, 0, width) : width;
         std::fprintf(stderr, "\rreport [%s%s] %3d%%  ETA %3.0f s  %-28.28s", std::string(filled, '#').c_str(),
                      std::string(width - filled, '-').c_str(), total_ > 0 ? 100 * done_ / total_ : 100, eta,
                      what.c_str());
@@ -675,8 +675,18 @@ fs::path write_report(const ReportOptions& options) {
         const Timing timing{repetitions, options.quick ? 0.005 : 0.02};
         const std::vector<Problem> list = problems();
         const auto& methods = sim::kIntegrators;
+        // The steps the progress bar counts, one per progress.step() below.
+        const auto peer_problems =
+            std::count_if(list.begin(), list.end(), [](const Problem& p) { return peer_knows(p.name); });
+        const std::size_t hard_case_count = hard_cases().size();
         Progress progress(options.progress,
-                          static_cast<int>(list.size() * methods.size() + 2 * methods.size() + methods.size()));
+                          static_cast<int>(list.size() * methods.size()               // work-precision sweeps
+                                           + static_cast<std::size_t>(peer_problems)  // peers
+                                           + list.size()                              // frame substeps
+                                           + 2 * methods.size()                       // energy drift
+                                           + methods.size()                           // stiff spring limits
+                                           + hard_case_count + 1 + 1  // stability map, ragdoll, small steps
+                                           + catalog().size()));      // scene costs
 
         // 1. Work-precision.
         std::vector<Sample> samples;
@@ -1104,7 +1114,8 @@ fs::path write_report(const ReportOptions& options) {
                 tmp, "stability_map",
                 std::string(kTerminal) +
                     "set output 'stability_map.png'\n"
-                    "set title 'Largest stable dt per method (white: 1/60 s; blue: a game frame is stable; the watchdog decides)'\n"
+                    "set title 'Largest stable dt per method (white: 1/60 s; blue: a game frame is stable; the "
+                    "watchdog decides)'\n"
                     "set xtics (" +
                     xt.str() + ") rotate by -30 noenhanced\nset ytics (" + yt.str() +
                     ") noenhanced\n"
