@@ -3,8 +3,8 @@
 #include "sim/world.h"
 #include "sim/error.h"
 #include "sim/mass_spring.h"
-#include "sim/state_hash.h"
 #include "sim/problems.h"
+#include "sim/state_hash.h"
 
 #include <gtest/gtest.h>
 
