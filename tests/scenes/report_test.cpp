@@ -98,7 +98,9 @@ TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
             name == "position_verlet") {
             EXPECT_NEAR(dt, 2e-3, 2e-4) << name << ": s, theory 2/ω";
         }
-        if (name == "rk4") EXPECT_NEAR(dt, 2.785e-3, 2.5e-4) << "s, theory 2.785/ω";
+        if (name == "rk4") {
+            EXPECT_NEAR(dt, 2.785e-3, 2.5e-4) << "s, theory 2.785/ω";
+        }
     }
     // Peers: odeint's steppers measured on the same problems, their orders as theory says.
     int peers = 0;
