@@ -1282,8 +1282,9 @@ fs::path write_report(const ReportOptions& options) {
         for (const Problem& p : list) {
             const Sample* best = nullptr;
             for (const Sample& s : frame_samples) {
-                if (!s.exploded && std::isfinite(s.error) && s.error <= 1e-3 &&
-                    (best == nullptr || s.evaluations < best->evaluations)) {
+                if (s.problem == p.name && !s.exploded && std::isfinite(s.error) && s.error <= 1e-3 &&
+                    (best == nullptr || s.evaluations < best->evaluations ||
+                     (s.evaluations == best->evaluations && s.error < best->error))) {  // ties: the more accurate
                     best = &s;
                 }
             }
