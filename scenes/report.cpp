@@ -2,6 +2,7 @@
 
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/progress.h"
 #include "scenes/report_peers.h"
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
@@ -683,28 +684,6 @@ std::string style(std::size_t k) {
     return "lc rgb '" + std::string(colors[k % 7]) + "' pt " + std::to_string(5 + static_cast<int>(k % 7) * 2);
 }
 
-class Progress {
-public:
-    Progress(bool on, int total) : on_(on), total_(total), start_(Clock::now()) {}
-    void step(const std::string& what) {
-        ++done_;
-        if (!on_) return;
-        const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-        const double eta = done_ > 0 ? elapsed / done_ * (total_ - done_) : 0.0;
-        const int width = 30, filled = total_ > 0 ? std::clamp(width * done_ / total_, 0, width) : width;
-        std::fprintf(stderr, "\rreport [%s%s] %3d%%  ETA %3.0f s  %-28.28s", std::string(filled, '#').c_str(),
-                     std::string(width - filled, '-').c_str(), total_ > 0 ? 100 * done_ / total_ : 100, eta,
-                     what.c_str());
-        if (done_ == total_) std::fprintf(stderr, "\n");
-    }
-
-private:
-    bool on_;
-    int total_;
-    int done_ = 0;
-    Clock::time_point start_;
-};
-
 }  // namespace
 
 fs::path write_report(const ReportOptions& options) {
@@ -733,7 +712,7 @@ fs::path write_report(const ReportOptions& options) {
         const auto peer_problems =
             std::count_if(list.begin(), list.end(), [](const Problem& p) { return peer_knows(p.name); });
         const std::size_t hard_case_count = hard_cases().size();
-        Progress progress(options.progress,
+        Progress progress("report", options.progress,
                           static_cast<int>(list.size() * methods.size()               // work-precision sweeps
                                            + static_cast<std::size_t>(peer_problems)  // peers
                                            + list.size()                              // frame substeps

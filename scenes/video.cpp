@@ -1,0 +1,196 @@
+#include "scenes/video.h"
+
+#include "render/gl_context.h"
+#include "render/renderer.h"
+#include "scenes/progress.h"
+#include "scenes/scene_run.h"
+#include "sim/error.h"
+#include "sim/integrators.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace scenes {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+void validate(const VideoOptions& o) {
+    const std::string ext = o.output.extension().string();
+    if (ext != ".mp4" && ext != ".gif") {
+        throw sim::InputError("video: -o must end in .mp4 or .gif (got '" + o.output.string() + "')");
+    }
+    if (o.width < 16 || o.height < 16 || o.width > 7680 || o.height > 4320 || o.width % 2 != 0 || o.height % 2 != 0) {
+        throw sim::InputError(
+            "video: --size must be even, within 16x16 .. 7680x4320 (H.264 with yuv420p needs even "
+            "sides; got " +
+            std::to_string(o.width) + "x" + std::to_string(o.height) + ")");
+    }
+    if (o.fps < 1 || o.fps > 120)
+        throw sim::InputError("video: --fps must be within 1 .. 120 (got " + std::to_string(o.fps) + ")");
+    if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 3600.0) {
+        throw sim::InputError("video: --seconds must be within 0 .. 3600 (got " + sim::format_value(o.seconds) + ")");
+    }
+    if (o.compare.size() > 6) throw sim::InputError("video: --compare takes at most 6 integrators");
+    for (const std::string& name : o.compare) {
+        if (!sim::integrator_from_name(name)) {
+            std::string known;
+            for (const auto& info : sim::kIntegrators) known += (known.empty() ? "" : ", ") + std::string(info.name);
+            throw sim::InputError("video: --compare: unknown integrator '" + name + "' (one of " + known + ")");
+        }
+    }
+    const fs::path dir = o.output.has_parent_path() ? o.output.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir) || access(dir.c_str(), W_OK) != 0) {
+        throw sim::InputError("video: cannot write " + o.output.string() + ": " + dir.string() +
+                              " is not a writable folder");
+    }
+}
+
+// Copies `tile` into `frame` with its top-left corner at (x0, y0).
+void blit(render::Image& frame, const render::Image& tile, int x0, int y0) {
+    const std::size_t row = static_cast<std::size_t>(tile.width) * tile.channels;
+    for (int y = 0; y < tile.height; ++y) std::memcpy(frame.at(x0, y0 + y), tile.at(0, y), row);
+}
+
+std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
+    std::ostringstream c;
+    c << "ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt " << (channels == 4 ? "rgba" : "rgb24") << " -s "
+      << o.width << 'x' << o.height << " -r " << o.fps << " -i - ";
+    if (o.output.extension() == ".gif") {
+        // One palette for the whole clip, then an ordered (Bayer) dither: no crawling noise between frames.
+        c << "-vf \"split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3\" -f gif ";
+    } else {
+        c << "-c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 "
+             "-color_trc bt709 -color_range tv -movflags +faststart -f mp4 ";
+    }
+    c << "'" << temp.string() << "' 2> '" << log.string() << "'";
+    return c.str();
+}
+
+std::string read_all(const fs::path& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
+    validate(options);
+    // One run per tile, each from its own description (a run holds a reference to it).
+    std::vector<std::unique_ptr<SceneDef>> defs;
+    if (options.compare.empty()) {
+        defs.push_back(std::make_unique<SceneDef>(scene));
+    } else {
+        for (const std::string& name : options.compare) {
+            std::vector<Override> with = overrides;
+            with.push_back({"step.integrator", "\"" + name + "\""});
+            defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
+        }
+    }
+    std::vector<std::unique_ptr<SceneRun>> runs;
+    for (const auto& d : defs) runs.push_back(std::make_unique<SceneRun>(*d));
+
+    // Tiles keep the video's aspect ratio (a scene's camera is framed for it):
+    // the grid that gives them the largest size, side by side on a tie.
+    const int n = static_cast<int>(runs.size());
+    const double aspect = static_cast<double>(options.width) / options.height;
+    int cols = 1, rows = n, tile_w = 0;
+    for (int c = n; c >= 1; --c) {
+        const int r = (n + c - 1) / c;
+        const int w = static_cast<int>(std::min(static_cast<double>(options.width) / c, options.height / r * aspect));
+        if (w > tile_w) cols = c, rows = r, tile_w = w;
+    }
+    tile_w &= ~1;
+    const int tile_h = static_cast<int>(tile_w / aspect) & ~1;
+    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
+    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
+
+    const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
+    const std::string tag = ".tmp-" + std::to_string(getpid());
+    const fs::path temp = dir / ("." + options.output.filename().string() + tag);
+    const fs::path log = dir / ("." + options.output.filename().string() + tag + ".log");
+
+    const auto context = render::create_context({});
+    render::Renderer renderer(*context);
+    VideoStats stats;
+    const auto start = Clock::now();
+    std::signal(SIGPIPE, SIG_IGN);  // a dead ffmpeg shows as a failed write, not a killed process
+    FILE* pipe = nullptr;
+    render::Image frame;
+    Progress progress("video", options.progress, frames);
+    double physics = 0.0, render_time = 0.0;  // s
+    try {
+        for (int k = 0; k < frames; ++k) {
+            const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
+            const auto p0 = Clock::now();
+            for (auto& run : runs) {
+                const double dt = run->scene().step.dt;
+                while (run->time() + dt <= t + 1e-9 && run->advance()) {
+                }
+            }
+            const auto p1 = Clock::now();
+            for (int i = 0; i < n; ++i) {
+                const render::Image tile = renderer.render(runs[static_cast<std::size_t>(i)]->draw_list(tile_w, tile_h),
+                                                           {.width = tile_w, .height = tile_h, .msaa_samples = 4});
+                if (frame.pixels.empty()) {
+                    frame.width = options.width;
+                    frame.height = options.height;
+                    frame.channels = tile.channels;
+                    frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
+                    pipe = popen(ffmpeg_command(options, frame.channels, temp, log).c_str(), "w");
+                    if (pipe == nullptr)
+                        throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+                }
+                blit(frame, tile, (i % cols) * tile_w + (options.width - cols * tile_w) / 2,
+                     (i / cols) * tile_h + (options.height - rows * tile_h) / 2);
+            }
+            const auto p2 = Clock::now();
+            physics += std::chrono::duration<double>(p1 - p0).count();
+            render_time += std::chrono::duration<double>(p2 - p1).count();
+            if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe) != frame.pixels.size()) {
+                throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
+                                         std::to_string(k) + ": " + read_all(log));
+            }
+            char what[64];
+            std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
+                          (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
+            progress.step(what);
+        }
+        const int status = pclose(pipe);
+        pipe = nullptr;
+        if (status != 0) {
+            throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
+                                     "): " + read_all(log));
+        }
+        std::error_code ec;
+        fs::rename(temp, options.output, ec);
+        if (ec) throw std::runtime_error("video: cannot write " + options.output.string() + ": " + ec.message());
+        fs::remove(log, ec);
+    } catch (...) {
+        if (pipe != nullptr) pclose(pipe);
+        std::error_code ec;
+        fs::remove(temp, ec);
+        fs::remove(log, ec);
+        throw;
+    }
+    stats.frames = frames;
+    stats.physics_ms = 1e3 * physics / frames;
+    stats.render_ms = 1e3 * render_time / frames;
+    stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return stats;
+}
+
+}  // namespace scenes

@@ -1,0 +1,142 @@
+// `plausible video` end to end through the real ffmpeg: an MP4 that ffprobe
+// reads as H.264, yuv420p, BT.709, with the frame count and duration asked
+// for; a GIF with its frames; a --compare video whose tiles show different
+// integrators; bad options refused before anything is written.
+#include "scenes/video.h"
+#include "scenes/scene.h"
+#include "sim/error.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string run(const std::string& command) {
+    std::string out;
+    FILE* p = popen(command.c_str(), "r");
+    if (p == nullptr) return out;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+    pclose(p);
+    return out;
+}
+
+// ffprobe's value of one stream or format entry.
+std::string probe(const fs::path& file, const std::string& entry) {
+    std::string out = run("ffprobe -v error -count_frames -select_streams v:0 -show_entries " + entry +
+                          " -of default=noprint_wrappers=1:nokey=1 '" + file.string() + "'");
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    return out;
+}
+
+class Video : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("plausible-video-test-" + std::to_string(getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    fs::path dir_;
+};
+
+TEST_F(Video, AnMp4IsH264Yuv420pBt709WithTheFramesAskedFor) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
+    scenes::VideoOptions o;
+    o.output = dir_ / "oscillator.mp4";
+    o.width = 320;
+    o.height = 240;
+    o.fps = 30;
+    o.seconds = 1.0;
+    const scenes::VideoStats stats = scenes::write_video(scene, {}, o);
+    EXPECT_EQ(stats.frames, 30);
+    ASSERT_TRUE(fs::exists(o.output));
+    EXPECT_EQ(probe(o.output, "stream=codec_name"), "h264");
+    EXPECT_EQ(probe(o.output, "stream=pix_fmt"), "yuv420p");
+    EXPECT_EQ(probe(o.output, "stream=color_space"), "bt709");
+    EXPECT_EQ(probe(o.output, "stream=width"), "320");
+    EXPECT_EQ(probe(o.output, "stream=nb_read_frames"), "30");
+    EXPECT_NEAR(std::stod(probe(o.output, "format=duration")), 1.0, 0.05) << "s";
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+        EXPECT_EQ(entry.path().filename(), "oscillator.mp4") << "nothing else left behind";
+    }
+}
+
+TEST_F(Video, AGifHasItsFrames) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("ballistic"));
+    scenes::VideoOptions o;
+    o.output = dir_ / "ballistic.gif";
+    o.width = 160;
+    o.height = 120;
+    o.fps = 10;
+    o.seconds = 1.0;
+    scenes::write_video(scene, {}, o);
+    EXPECT_EQ(probe(o.output, "stream=codec_name"), "gif");
+    EXPECT_EQ(probe(o.output, "stream=nb_read_frames"), "10");
+}
+
+TEST_F(Video, CompareShowsOneTilePerIntegrator) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("orbit"));
+    scenes::VideoOptions o;
+    o.output = dir_ / "compare.mp4";
+    o.width = 320;
+    o.height = 180;
+    o.fps = 10;
+    o.seconds = 3.0;
+    o.compare = {"forward_euler", "symplectic_euler"};
+    scenes::write_video(scene, {}, o);
+    // The last frame, raw: two 160x90 tiles side by side, centred vertically.
+    const std::string rgb =
+        run("ffmpeg -v error -sseof -0.2 -i '" + o.output.string() + "' -frames:v 1 -f rawvideo -pix_fmt rgb24 -");
+    ASSERT_EQ(rgb.size(), 320u * 180u * 3u);
+    auto pixel = [&](int x, int y, int c) { return static_cast<unsigned char>(rgb[(y * 320 + x) * 3 + c]); };
+    long differ = 0;  // pixels that differ between the left tile and the right one
+    for (int y = 45; y < 135; ++y) {
+        for (int x = 0; x < 160; ++x) {
+            int d = 0;
+            for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(pixel(x, y, c) - pixel(x + 160, y, c)));
+            if (d > 40) ++differ;
+        }
+    }
+    EXPECT_GT(differ, 50) << "forward Euler's planet is elsewhere than symplectic Euler's after 3 s";
+    // Outside the tiles (above them), the background.
+    EXPECT_LT(pixel(160, 10, 0), 60);
+}
+
+TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
+    auto refused = [&](scenes::VideoOptions o, const std::string& fragment) {
+        try {
+            scenes::write_video(scene, {}, o);
+        } catch (const sim::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+            return;
+        }
+        ADD_FAILURE() << "accepted: " << fragment;
+    };
+    scenes::VideoOptions o;
+    o.output = dir_ / "bad.mp4";
+    o.seconds = 0.5;
+    scenes::VideoOptions odd = o;
+    odd.width = 321;
+    refused(odd, "--size must be even");
+    scenes::VideoOptions unknown = o;
+    unknown.compare = {"rk4", "runge_kutta"};
+    refused(unknown, "unknown integrator 'runge_kutta'");
+    scenes::VideoOptions nowhere = o;
+    nowhere.output = dir_ / "no" / "such" / "folder" / "v.mp4";
+    refused(nowhere, "not a writable folder");
+    scenes::VideoOptions avi = o;
+    avi.output = dir_ / "bad.avi";
+    refused(avi, "must end in .mp4 or .gif");
+    EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
+}
+
+}  // namespace
