@@ -39,6 +39,16 @@ std::string probe(const fs::path& file, const std::string& entry) {
 
 class Video : public ::testing::Test {
 protected:
+    // A video of `file` in the test's folder.
+    scenes::VideoOptions options(const std::string& file, int width, int height, int fps, double seconds) const {
+        scenes::VideoOptions o;
+        o.output = dir_ / file;
+        o.width = width;
+        o.height = height;
+        o.fps = fps;
+        o.seconds = seconds;
+        return o;
+    }
     void SetUp() override {
         dir_ = fs::temp_directory_path() / ("plausible-video-test-" + std::to_string(getpid()));
         fs::create_directories(dir_);
@@ -49,12 +59,7 @@ protected:
 
 TEST_F(Video, AnMp4IsH264Yuv420pBt709WithTheFramesAskedFor) {
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
-    scenes::VideoOptions o;
-    o.output = dir_ / "oscillator.mp4";
-    o.width = 320;
-    o.height = 240;
-    o.fps = 30;
-    o.seconds = 1.0;
+    const scenes::VideoOptions o = options("oscillator.mp4", 320, 240, 30, 1.0);
     const scenes::VideoStats stats = scenes::write_video(scene, {}, o);
     EXPECT_EQ(stats.frames, 30);
     ASSERT_TRUE(fs::exists(o.output));
@@ -71,12 +76,7 @@ TEST_F(Video, AnMp4IsH264Yuv420pBt709WithTheFramesAskedFor) {
 
 TEST_F(Video, AGifHasItsFrames) {
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("ballistic"));
-    scenes::VideoOptions o;
-    o.output = dir_ / "ballistic.gif";
-    o.width = 160;
-    o.height = 120;
-    o.fps = 10;
-    o.seconds = 1.0;
+    const scenes::VideoOptions o = options("ballistic.gif", 160, 120, 10, 1.0);
     scenes::write_video(scene, {}, o);
     EXPECT_EQ(probe(o.output, "stream=codec_name"), "gif");
     EXPECT_EQ(probe(o.output, "stream=nb_read_frames"), "10");
@@ -84,12 +84,7 @@ TEST_F(Video, AGifHasItsFrames) {
 
 TEST_F(Video, CompareShowsOneTilePerIntegrator) {
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("orbit"));
-    scenes::VideoOptions o;
-    o.output = dir_ / "compare.mp4";
-    o.width = 320;
-    o.height = 180;
-    o.fps = 10;
-    o.seconds = 3.0;
+    scenes::VideoOptions o = options("compare.mp4", 320, 180, 10, 3.0);
     o.compare = {"forward_euler", "symplectic_euler"};
     scenes::write_video(scene, {}, o);
     // The last frame, raw: two 160x90 tiles side by side, centred vertically.
@@ -121,9 +116,7 @@ TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
         }
         ADD_FAILURE() << "accepted: " << fragment;
     };
-    scenes::VideoOptions o;
-    o.output = dir_ / "bad.mp4";
-    o.seconds = 0.5;
+    const scenes::VideoOptions o = options("bad.mp4", 1280, 720, 30, 0.5);
     scenes::VideoOptions odd = o;
     odd.width = 321;
     refused(odd, "--size must be even");
