@@ -1,5 +1,6 @@
 #include "scenes/video.h"
 
+#include "render/font.h"
 #include "render/gl_context.h"
 #include "render/renderer.h"
 #include "scenes/progress.h"
@@ -85,6 +86,36 @@ std::string read_all(const fs::path& path) {
     return s.str();
 }
 
+// The compare grid's free cells (3 tiles in a 2 x 2 grid): the scene's name,
+// its description and the integrators in tile order, drawn once.
+void title_card(render::Image& frame, const SceneDef& scene, const std::vector<std::string>& compare, int x0, int y0,
+                int w) {
+    const render::Font& font = render::Font::default_font();
+    const float size = std::max(12.0f, static_cast<float>(w) / 28.0f);  // px
+    const render::Rgba8 light{235, 235, 235, 255}, dim{170, 175, 185, 255};
+    const float left = static_cast<float>(x0) + size;
+    float y = static_cast<float>(y0) + size;
+    render::draw_text(frame, font, scene.name, left, y, 1.6f * size, light);
+    y += 2.6f * size;
+    // The description, wrapped at about w / (0.55 size) characters.
+    const auto chars = static_cast<std::size_t>(std::max(10.0f, (static_cast<float>(w) - 2 * size) / (0.55f * size)));
+    std::istringstream words(scene.description);
+    std::string line, word;
+    while (words >> word) {
+        if (!line.empty() && line.size() + 1 + word.size() > chars) {
+            render::draw_text(frame, font, line, left, y, size, dim);
+            y += 1.4f * size;
+            line.clear();
+        }
+        line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty()) render::draw_text(frame, font, line, left, y, size, dim);
+    y += 2.4f * size;
+    std::string order = "Tiles: ";
+    for (std::size_t i = 0; i < compare.size(); ++i) order += (i ? ", " : "") + compare[i];
+    render::draw_text(frame, font, order, left, y, size, light);
+}
+
 }  // namespace
 
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
@@ -150,6 +181,11 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
                     frame.height = options.height;
                     frame.channels = tile.channels;
                     frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
+                    if (cols * rows > n) {  // the free cell after the last tile
+                        title_card(frame, scene, options.compare,
+                                   (n % cols) * tile_w + (options.width - cols * tile_w) / 2,
+                                   (n / cols) * tile_h + (options.height - rows * tile_h) / 2, tile_w);
+                    }
                     pipe = popen(ffmpeg_command(options, frame.channels, temp, log).c_str(), "w");
                     if (pipe == nullptr)
                         throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
