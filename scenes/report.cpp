@@ -679,6 +679,12 @@ void gnuplot(const fs::path& dir, const std::string& name, const std::string& sc
 const char* kTerminal = "set terminal pngcairo size 960,680 enhanced font 'DejaVu Sans,12' linewidth 1.5\n";
 
 // One colour per integrator, the same in every plot.
+// A horizontal reference line across a bar chart of `bars` bars, at y.
+std::string hline(double y, std::size_t bars, const std::string& look) {
+    return "set arrow from -0.5," + fmt("%.6g", y) + " to " + std::to_string(bars) + "-0.5," + fmt("%.6g", y) +
+           " nohead " + look + "\n";
+}
+
 std::string style(std::size_t k) {
     static const char* colors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#ff7f0e", "#17becf"};
     return "lc rgb '" + std::string(colors[k % 7]) + "' pt " + std::to_string(5 + static_cast<int>(k % 7) * 2);
@@ -990,14 +996,10 @@ fs::path write_report(const ReportOptions& options) {
                         "set style fill solid 0.8\nset boxwidth 0.6\nset yrange [1e-7:1]\nset xtics rotate by -30 "
                         "noenhanced\n"
                         "set title 'Largest stable dt on a stiff spring (k = 10^6 N/m, m = 1 kg, ω = 1000 rad/s)'\n"
-                        "set ylabel 'largest dt whose speed stays under 100 ω A for 2 s (s)'\n"
-                        "set arrow from -0.5,1/60. to " +
-                        std::to_string(limits.size()) +
-                        "-0.5,1/60. nohead dt 2 lc rgb '#d62728'\n"
-                        "set label '1/60 s' at -0.4,0.025 tc rgb '#d62728'\n"
-                        "set arrow from -0.5,0.002 to " +
-                        std::to_string(limits.size()) +
-                        "-0.5,0.002 nohead dt 3 lc rgb '#555555'\n"
+                        "set ylabel 'largest dt whose speed stays under 100 ω A for 2 s (s)'\n" +
+                        hline(1.0 / 60.0, limits.size(), "dt 2 lc rgb '#d62728'") +
+                        "set label '1/60 s' at -0.4,0.025 tc rgb '#d62728'\n" +
+                        hline(0.002, limits.size(), "dt 3 lc rgb '#555555'") +
                         "set label '2/ω' at -0.4,0.0028 tc rgb '#555555'\n"
                         "plot 'stability.dat' using 1:3:xtic(2) with boxes lc rgb '#1f77b4' notitle\n");
         }
@@ -1064,18 +1066,10 @@ fs::path write_report(const ReportOptions& options) {
                     "set key outside right top\n"
                     "set title 'Every scene per 30 FPS frame (33 ms): physics, a 1280x720 render, H.264 encoding "
                     "(stacked)'\n"
-                    "set ylabel 'ms per frame'\n"
-                    "set arrow from -0.5," +
-                    fmt("%.4f", kPhysicsLow) + " to " + std::to_string(costs.size()) + "-0.5," +
-                    fmt("%.4f", kPhysicsLow) +
-                    " nohead dt 2 lc rgb '#2ca02c'\n"
-                    "set arrow from -0.5," +
-                    fmt("%.4f", kPhysicsHigh) + " to " + std::to_string(costs.size()) + "-0.5," +
-                    fmt("%.4f", kPhysicsHigh) +
-                    " nohead dt 2 lc rgb '#d62728'\n"
-                    "set arrow from -0.5," +
-                    fmt("%.4f", kFrameMs) + " to " + std::to_string(costs.size()) + "-0.5," + fmt("%.4f", kFrameMs) +
-                    " nohead lc rgb '#000000'\n"
+                    "set ylabel 'ms per frame'\n" +
+                    hline(kPhysicsLow, costs.size(), "dt 2 lc rgb '#2ca02c'") +
+                    hline(kPhysicsHigh, costs.size(), "dt 2 lc rgb '#d62728'") +
+                    hline(kFrameMs, costs.size(), "lc rgb '#000000'") +
                     "plot 'scene_costs.dat' using 1:5:xtic(2) with boxes lc rgb '#f2c48d' title '+ encode (H.264)', "
                     "\\\n"
                     "     '' using 1:4 with boxes lc rgb '#bbbbbb' title 'physics + render', \\\n"

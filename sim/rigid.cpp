@@ -952,25 +952,8 @@ void RigidWorld::remove_joint(JointId id) {
 }
 
 double RigidWorld::joint_separation(JointId id) const {
-    const auto& js = impl_->joint(id);
-    dVector3 p1, p2;
-    switch (js.def.type) {
-        case JointType::ball:
-            dJointGetBallAnchor(js.joint, p1);
-            dJointGetBallAnchor2(js.joint, p2);
-            break;
-        case JointType::hinge:
-            dJointGetHingeAnchor(js.joint, p1);
-            dJointGetHingeAnchor2(js.joint, p2);
-            break;
-        case JointType::universal:
-            dJointGetUniversalAnchor(js.joint, p1);
-            dJointGetUniversalAnchor2(js.joint, p2);
-            break;
-        default:
-            return 0.0;
-    }
-    return (to_vec(p1) - to_vec(p2)).norm();
+    Vec3 p1, p2;
+    return Impl::anchors(impl_->joint(id), p1, p2) ? (p1 - p2).norm() : 0.0;
 }
 
 double RigidWorld::joint_position(JointId id) const {
@@ -1061,14 +1044,8 @@ Eigen::Matrix3d RigidWorld::inertia(BodyId id) const {
 
 double RigidWorld::kinetic_energy() const {
     double e = 0.0;
-    for (std::uint32_t i = 0; i < impl_->slots.size(); ++i) {
-        const auto& s = impl_->slots[i];
-        if (s.body == nullptr) continue;
-        const BodyId id{i, s.generation};
-        const BodyState st = state(id);
-        const Eigen::Matrix3d R = st.orientation.toRotationMatrix();
-        const Vec3 w_body = R.transpose() * st.angular_velocity;
-        e += 0.5 * mass(id) * st.velocity.squaredNorm() + 0.5 * w_body.dot(inertia(id) * w_body);
+    for (const auto& s : impl_->slots) {
+        if (s.body != nullptr) e += impl_->kinetic(s);
     }
     return e;
 }
