@@ -1119,11 +1119,22 @@ Renderer::~Renderer() {
 void Renderer::draw(const DrawList& list, const RenderSettings& settings) { impl_->draw(list, settings); }
 
 Image Renderer::read_back(int channels) {
+    if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
+    return read_pixels(impl_->resolve_fbo, channels, "reading the frame back");
+}
+
+Image Renderer::read_window(int channels) {
+    if (impl_->context.window() == nullptr)
+        throw RenderError(ErrorKind::bad_input, "read_window: this context has no window");
+    if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_window: nothing has been drawn yet");
+    return read_pixels(0, channels, "reading the window back");
+}
+
+Image Renderer::read_pixels(unsigned framebuffer, int channels, const char* what) {
     if (channels != 3 && channels != 4) {
         throw RenderError(ErrorKind::bad_input,
-                          "read_back: channels must be 3 or 4 (got " + std::to_string(channels) + ")");
+                          std::string(what) + ": channels must be 3 or 4 (got " + std::to_string(channels) + ")");
     }
-    if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
     Impl& r = *impl_;
     r.context.make_current();
     const auto& gl = r.gl;
@@ -1133,11 +1144,11 @@ Image Renderer::read_back(int channels) {
     image.channels = channels;
     const std::size_t row = static_cast<std::size_t>(r.width) * channels;
     std::vector<std::uint8_t> bottom_up(row * r.height);
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.resolve_fbo);
-    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+    gl.ReadBuffer(framebuffer == 0 ? GL_BACK : GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 1);  // rows are tightly packed, whatever the width
     gl.ReadPixels(0, 0, r.width, r.height, channels == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
-    r.check_errors("reading the frame back");
+    r.check_errors(what);
     // GL's first row is the bottom one; images start at the top.
     image.pixels.resize(bottom_up.size());
     for (int y = 0; y < r.height; ++y) {
@@ -1152,16 +1163,23 @@ Image Renderer::render(const DrawList& list, const RenderSettings& settings, int
     return read_back(channels);
 }
 
-void Renderer::present() {
+void Renderer::blit_to_window() {
     Impl& r = *impl_;
-    GLFWwindow* window = r.context.window();
-    if (window == nullptr) throw RenderError(ErrorKind::bad_input, "present: this context has no window");
+    if (r.context.window() == nullptr)
+        throw RenderError(ErrorKind::bad_input, "blit_to_window: this context has no window");
     if (!r.has_frame) return;
     r.context.make_current();
     r.gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.resolve_fbo);
     r.gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     r.gl.BlitFramebuffer(0, 0, r.width, r.height, 0, 0, r.width, r.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    r.context.swap_buffers();
+    r.gl.BindFramebuffer(GL_FRAMEBUFFER, 0);  // what draws on top (a UI) draws into the window
+}
+
+void Renderer::present() {
+    if (impl_->context.window() == nullptr)
+        throw RenderError(ErrorKind::bad_input, "present: this context has no window");
+    blit_to_window();
+    impl_->context.swap_buffers();
 }
 
 void Renderer::finish() {

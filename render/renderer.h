@@ -40,8 +40,15 @@ public:
     // Waits until the GPU (llvmpipe's threads) has finished the frame: for
     // timing a frame without reading it back.
     void finish();
-    // Window contexts: scales the last frame into the window and swaps buffers.
+    // Window contexts: copies the last frame into the window's back buffer
+    // (drawn at the window's framebuffer size, 1:1) and swaps buffers.
     void present();
+    // The same without the swap, for a UI drawn on top before the caller swaps;
+    // leaves the window's framebuffer bound.
+    void blit_to_window();
+    // The window's back buffer as it is now (the frame and whatever was drawn
+    // on top), at the last frame's size: a screenshot, taken before the swap.
+    Image read_window(int channels = 3);
 
     struct FrameStats {
         std::size_t triangles = 0;  // including the shadow pass
@@ -50,6 +57,7 @@ public:
     FrameStats last_frame() const;
 
 private:
+    Image read_pixels(unsigned framebuffer, int channels, const char* what);
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -9,6 +9,7 @@
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
 #include "scenes/video.h"
+#include "scenes/view.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -422,6 +423,22 @@ int main(int argc, char** argv) {
         "--compare", video_compare,
         "Integrators side by side in lock step, comma-separated (e.g. forward_euler,symplectic_euler)");
 
+    SceneOptions view_scene;
+    scenes::ViewOptions view_options;
+    std::string view_size = "1280x720", view_screenshot;
+    CLI::App* view_cmd = app.add_subcommand(
+        "view", "Run a scene in a window: pause, step, step back, drag things, change integrator and dt live");
+    view_cmd->add_option("scene", view_scene.scene, "Scene name or .toml path")->required();
+    view_scene.add_to(view_cmd, true);
+    view_cmd->add_option("--size", view_size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
+    view_cmd->add_option("--msaa", view_options.msaa_samples, "MSAA samples (0 off, as the goldens)")
+        ->capture_default_str();
+    view_cmd->add_flag("!--no-panel", view_options.panel, "Hide the control panel (H shows it)");
+    view_cmd->add_flag("--paused", view_options.paused, "Start paused (Space resumes, Right steps)");
+    view_cmd->add_option("--exit-after", view_options.exit_after,
+                         "Show N frames, one scene step each (no wall clock), then exit");
+    view_cmd->add_option("--screenshot", view_screenshot, "Save the window's last frame as this PNG on exit");
+
     scenes::ReportOptions report_options;
     std::string report_out = report_options.out.string();
     CLI::App* report_cmd = app.add_subcommand(
@@ -452,6 +469,18 @@ int main(int argc, char** argv) {
             const scenes::VideoStats v = scenes::write_video(scene, video_scene.overrides(), video_options);
             std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
                         video_out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
+            return kExitOk;
+        }
+        if (*view_cmd) {
+            const auto [w, h] = parse_size(view_size);
+            view_options.width = w;
+            view_options.height = h;
+            view_options.screenshot = view_screenshot;
+            const scenes::SceneDef scene = view_scene.load();
+            const scenes::ViewResult v = scenes::run_viewer(scene, view_scene.overrides(), view_options);
+            std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s\n", scene.name.c_str(), v.frame, v.time,
+                        v.state_hash.c_str(), v.exploded ? " (exploded)" : "",
+                        view_screenshot.empty() ? "" : (", screenshot " + view_screenshot).c_str());
             return kExitOk;
         }
         if (*report_cmd) {

@@ -111,6 +111,16 @@ SceneDef load_scene(const std::filesystem::path& file, const std::vector<Overrid
 SceneDef parse_scene(std::string_view text, const std::string& display_name,
                      const std::vector<Override>& overrides = {});
 
+// A number in the scene file that a person may want to turn (the viewer's
+// sliders): its --set key and its value in the file. Changing one rebuilds
+// the scene from the file with the key overridden.
+struct Parameter {
+    std::string key;  // e.g. forces.springs[0].stiffness
+    double value = 0.0;
+    bool integer = false;
+};
+std::vector<Parameter> scene_parameters(const SceneDef& scene);
+
 // Shipped scenes: the ordered catalogue (scenes/catalog.txt) and where their
 // files live ($PLAUSIBLE_SCENES_DIR, else the source tree's scenes/).
 std::filesystem::path scenes_dir();

@@ -46,7 +46,7 @@ std::string format_dt(double dt) {
     return format("%.4g", dt) + " s";
 }
 
-SceneRun::SceneRun(const SceneDef& scene) : scene_(scene), world_(scene.model) {
+SceneRun::SceneRun(const SceneDef& scene) : scene_(scene), step_(scene.step), world_(scene.model) {
     world_.set_watchdog(scene.watchdog);
     trails_.resize(scene.model.particles.size());
     record();
@@ -54,10 +54,23 @@ SceneRun::SceneRun(const SceneDef& scene) : scene_(scene), world_(scene.model) {
 
 bool SceneRun::advance() {
     if (world_.verdict().exploded()) return false;
-    world_.step(scene_.step);
+    world_.step(step_);
     ++frame_;
     record();
     return !world_.verdict().exploded();
+}
+
+void SceneRun::set_step(const sim::StepSettings& step) {
+    sim::validate(step);
+    step_ = step;
+}
+
+void SceneRun::restore(const Snapshot& snapshot) {
+    world_.restore(snapshot.world);
+    frame_ = snapshot.frame;
+    step_ = snapshot.step;
+    trails_ = snapshot.trails;
+    while (!energy_.empty() && energy_.back().x() > static_cast<float>(time()) + 1e-6f) energy_.pop_back();
 }
 
 void SceneRun::record() {
@@ -254,9 +267,9 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
     const float h = static_cast<float>(height), w = static_cast<float>(width);
     const float text = std::max(13.0f, h / 22.0f);  // px; smaller text loses thin strokes
     if (scene_.view.hud) {
-        const std::string integrator(sim::integrator_info(scene_.step.integrator).name);
-        std::string title = scene_.name + " · " + integrator + " · Δt = " + format_dt(scene_.step.dt);
-        if (scene_.step.substeps > 1) title += " / " + std::to_string(scene_.step.substeps);
+        const std::string integrator(sim::integrator_info(step_.integrator).name);
+        std::string title = scene_.name + " · " + integrator + " · Δt = " + format_dt(step_.dt);
+        if (step_.substeps > 1) title += " / " + std::to_string(step_.substeps);
         list.texts.push_back(render::Text{title, render::Vec2(0.5f * text, 0.4f * text), text,
                                           render::Color{0.1f, 0.1f, 0.12f, 1}, true});
         const std::string state =

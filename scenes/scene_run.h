@@ -17,11 +17,29 @@ namespace scenes {
 
 class SceneRun {
 public:
-    // The description must outlive the run. The step settings are the scene's.
+    // The description must outlive the run. The step settings start as the
+    // scene's; the viewer may change them between frames.
     explicit SceneRun(const SceneDef& scene);
 
     // One frame step (World::step). False once the watchdog has stopped the run.
     bool advance();
+
+    const sim::StepSettings& step() const { return step_; }
+    void set_step(const sim::StepSettings& step);  // validates (InputError)
+
+    // Everything a frame needs to be shown again and stepped on from (the
+    // viewer's step back): the world's snapshot, the frame counter and the
+    // trails; the energy curve is cut back to the frame.
+    struct Snapshot {
+        sim::World::Snapshot world;
+        int frame = 0;
+        sim::StepSettings step;
+        std::vector<std::deque<render::Vec3>> trails;
+    };
+    Snapshot snapshot() const { return {world_.snapshot(), frame_, step_, trails_}; }
+    void restore(const Snapshot& snapshot);
+    // Mouse drags and other direct edits.
+    sim::World& world_for_edit() { return world_; }
 
     int frame() const { return frame_; }
     double time() const { return world_.state().t; }  // s
@@ -40,6 +58,7 @@ private:
     double link_strain(std::uint32_t a, std::uint32_t b) const;  // (length - built length) / built length
 
     const SceneDef& scene_;
+    sim::StepSettings step_;
     sim::World world_;
     int frame_ = 0;
     std::vector<std::deque<render::Vec3>> trails_;  // per particle, oldest first (empty for pinned ones)

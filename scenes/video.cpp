@@ -168,7 +168,7 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
             const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
             const auto p0 = Clock::now();
             for (auto& run : runs) {
-                const double dt = run->scene().step.dt;
+                const double dt = run->step().dt;
                 while (run->time() + dt <= t + 1e-9 && run->advance()) {
                 }
             }

@@ -1121,4 +1121,15 @@ void RigidWorld::set_body_states(const std::vector<BodyState>& states, std::uint
     impl_->steps = steps;
 }
 
+void RigidWorld::add_force_at(BodyId id, const Vec3& force, const Vec3& point) {
+    const dBodyID b = impl_->slot(id).body;
+    if (!force.allFinite() || !point.allFinite()) {
+        throw InputError("add_force_at: force and point must be finite (body " + std::to_string(id.index) + ")");
+    }
+    dBodyEnable(b);
+    impl_->slots[id.index].asleep = false;
+    impl_->slots[id.index].idle_steps = 0;
+    dBodyAddForceAtPos(b, force.x(), force.y(), force.z(), point.x(), point.y(), point.z());
+}
+
 }  // namespace sim

@@ -274,6 +274,11 @@ public:
     void set_body_states(const std::vector<BodyState>& states, std::uint64_t steps);
     std::vector<BodyId> bodies() const;  // live ids, index order
 
+    // A force (N) at a world point (m) for the next step only (ODE clears a
+    // body's accumulated forces after each step), waking the body: the
+    // viewer's mouse drag. InputError for a stale id or a non-finite value.
+    void add_force_at(BodyId id, const Vec3& force, const Vec3& point);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

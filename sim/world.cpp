@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -76,6 +77,53 @@ ParticleState& World::edit_state() {
     return state_;
 }
 
+void World::set_drag(const std::optional<Drag>& drag) {
+    if (drag) {
+        const Drag& d = *drag;
+        if (!d.anchor.allFinite() || !d.target.allFinite() || !std::isfinite(d.frequency) || d.frequency <= 0.0 ||
+            !std::isfinite(d.damping_ratio) || d.damping_ratio < 0.0) {
+            throw InputError("drag: anchor and target must be finite, frequency > 0 Hz, damping ratio >= 0 (got " +
+                             format_value(d.frequency) + " Hz, " + format_value(d.damping_ratio) + ")");
+        }
+        if (d.kind == Drag::Kind::particle) {
+            if (d.index >= state_.size())
+                throw InputError("drag: no particle " + std::to_string(d.index) + " (the world has " +
+                                 std::to_string(state_.size()) + ")");
+            if (state_.inv_mass[d.index] == 0.0)
+                throw InputError("drag: particle " + std::to_string(d.index) + " is pinned");
+        } else if (!rigid_ || d.index >= model_.rigid.bodies.size()) {
+            throw InputError("drag: no rigid body " + std::to_string(d.index));
+        }
+    }
+    drag_ = drag;
+}
+
+void World::apply_drag(double h) {
+    const Drag& d = *drag_;
+    const double w = 2.0 * std::numbers::pi * d.frequency;  // rad/s
+    if (d.kind == Drag::Kind::particle) {
+        // x'' = w² (target - x) - 2 ζ w x' per unit mass, backward Euler over
+        // the substep: v1 (1 + 2ζw h + w² h²) = v0 + w² h (target - x0). The
+        // velocity change is the spring's impulse; the integrator adds the rest.
+        const Vec3 x = state_.x.get(d.index), v = state_.v.get(d.index);
+        const Vec3 v1 = (v + w * w * h * (d.target - x)) / (1.0 + 2.0 * d.damping_ratio * w * h + w * w * h * h);
+        state_.v.set(d.index, v1);
+        memory_valid_ = false;
+        return;
+    }
+    // A body: the same spring, explicit, on the grabbed point, with the
+    // body's mass; capped at 30 g per kg so that a lost grip cannot fling it.
+    const BodyId id{d.index, 0};
+    const BodyState b = rigid_->state(id);
+    const Vec3 point = b.position + b.orientation * d.anchor;
+    const Vec3 point_velocity = b.velocity + b.angular_velocity.cross(point - b.position);
+    const double m = rigid_->mass(id);
+    Vec3 force = m * (w * w * (d.target - point) - 2.0 * d.damping_ratio * w * point_velocity);
+    const double cap = 30.0 * 9.81 * m;  // N
+    if (force.norm() > cap) force *= cap / force.norm();
+    rigid_->add_force_at(id, force, point);
+}
+
 World::Snapshot World::snapshot() const {
     Snapshot snap{state_,    memory_a_, memory_x_prev_, memory_valid_,   memory_integrator_,
                   memory_h_, steps_,    frames_,        initial_energy_, verdict_};
@@ -138,6 +186,7 @@ void World::step(const StepSettings& settings) {
             }
             // Continuous collision detection sweeps from here; a contained explosion freezes here.
             if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
+            if (drag_ && drag_->kind == Drag::Kind::particle) apply_drag(h);
             step_once(settings.integrator, h);  // forces and integration
         });
         if (constrained) timed(times_.constraints, [&] { solve_constraints(h); });
@@ -151,7 +200,14 @@ void World::step(const StepSettings& settings) {
             });
         }
         if (plastic) timed(times_.plasticity, [&] { plasticity(h); });
-        if (rigid_) timed(times_.rigid, [&] { rigid_->step(h); });
+        if (rigid_) {
+            timed(times_.rigid, [&] {
+                if (drag_ && drag_->kind == Drag::Kind::body) apply_drag(h);
+                rigid_->step(h);
+            });
+        }
+        // Energy the mouse put in is not an explosion: the watchdog's E0 follows it up.
+        if (drag_) initial_energy_ = std::max(initial_energy_, energy());
         if (watchdog_.enabled) timed(times_.watchdog, [&] { watch(); });
     }
 }

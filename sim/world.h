@@ -13,6 +13,7 @@
 #include "sim/watchdog.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace sim {
@@ -41,6 +42,20 @@ struct StepSettings {
 
 // Throws InputError when dt <= 0 or not finite, or substeps < 1.
 void validate(const StepSettings& settings);
+
+// The viewer's mouse (the control-force hook): a damped spring pulling one
+// particle, or one point of a rigid body, towards a target. Scaled by the
+// mass, so that it feels the same on a 1 g bead and a 70 kg ragdoll: the
+// grabbed thing follows the mouse like a spring of this frequency.
+struct Drag {
+    enum class Kind { particle, body };
+    Kind kind = Kind::particle;
+    std::uint32_t index = 0;     // particle index, or model.rigid.bodies index
+    Vec3 anchor = Vec3::Zero();  // m, body frame: the grabbed point (bodies only)
+    Vec3 target = Vec3::Zero();  // m, world frame: where the mouse is
+    double frequency = 3.0;      // Hz, natural frequency of the spring (> 0)
+    double damping_ratio = 0.8;  // 1: critically damped (>= 0)
+};
 
 class World {
 public:
@@ -96,6 +111,14 @@ public:
     // rebuilds the integrator's memory from the edited state.
     ParticleState& edit_state();
 
+    // Grabs (or with nullopt lets go of) a particle or a body. On a particle
+    // the spring and its damping act implicitly at the start of each substep
+    // (stable at any frequency and dt), on a body explicitly at its point.
+    // InputError for a pinned or unknown particle, an unknown body, or bad
+    // numbers.
+    void set_drag(const std::optional<Drag>& drag);
+    const std::optional<Drag>& drag() const { return drag_; }
+
     // Everything that steps, integrator memory included: restoring a snapshot
     // and stepping gives the same bits as the run that made it (the lecture:
     // to go back in time accurately, store states; Euler does not run
@@ -138,6 +161,7 @@ private:
     void plasticity(double h);
     void watch();                  // the watchdog after a substep, containing what it may
     void update_body_colliders();  // the rigid bodies' parts where they are now, for the particles
+    void apply_drag(double h);     // the mouse spring, for one substep of h s
 
     ParticleModel model_;
     ParticleState state_;
@@ -167,6 +191,7 @@ private:
     std::vector<Contained> contained_;
     std::uint64_t frames_ = 0;
     SystemTimes times_;
+    std::optional<Drag> drag_;
 };
 
 }  // namespace sim

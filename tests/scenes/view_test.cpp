@@ -1,0 +1,198 @@
+// `plausible view` end to end: the real command in a real GLFW window on a
+// virtual display (Xvfb), keys and mouse sent by xdotool, screenshots of the
+// window compared with the off-screen (OSMesa) render of the same frame, and
+// the state it printed compared with the same frames run here.
+#include "render/gl_context.h"
+#include "render/golden.h"
+#include "render/image.h"
+#include "render/renderer.h"
+#include "scenes/scene.h"
+#include "scenes/scene_run.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Ran {
+    int status = -1;  // exit status
+    std::string out;  // stdout and stderr
+};
+
+Ran shell(const std::string& command) {
+    Ran r;
+    FILE* p = popen((command + " 2>&1").c_str(), "r");
+    if (p == nullptr) return r;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.out.append(buf, n);
+    const int status = pclose(p);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+// The number after `key` in the viewer's last line ("frame 12", "state 9f...").
+std::string field(const std::string& out, const std::string& key) {
+    const std::regex pattern(key + " ([0-9a-f]+)");
+    std::string last;
+    for (auto it = std::sregex_iterator(out.begin(), out.end(), pattern); it != std::sregex_iterator(); ++it) {
+        last = (*it)[1];
+    }
+    return last;
+}
+
+class View : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("plausible-view-test-" + std::to_string(getpid()));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // Runs `script` (sh) on a virtual display of its own; $VIEW is the command.
+    Ran under_xvfb(const std::string& script) const {
+        const fs::path file = dir_ / "script.sh";
+        std::ofstream(file) << "VIEW='" << PLAUSIBLE_EXE << " view'\n" << script;
+        return shell("cd '" + dir_.string() + "' && timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' sh '" +
+                     file.string() + "'");
+    }
+
+    // The scene run here for `frames` frames: its state hash and its picture
+    // rendered off-screen as the window shows it (same size, 4x MSAA).
+    struct Reference {
+        std::string hash;
+        render::Image image;
+    };
+    static Reference reference(const std::string& scene_name, int frames, int width, int height) {
+        const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene(scene_name));
+        scenes::SceneRun run(scene);
+        for (int k = 0; k < frames; ++k) run.advance();
+        const auto context = render::create_context({});
+        render::Renderer renderer(*context);
+        return {run.state_hash_hex(),
+                renderer.render(run.draw_list(width, height), {.width = width, .height = height, .msaa_samples = 4})};
+    }
+
+    // The window's screenshot against the off-screen frame: the golden metric
+    // and its default thresholds (3 levels; 5% small, 0.01% large errors).
+    static void expect_same_picture(const fs::path& screenshot, const render::Image& expected) {
+        ASSERT_TRUE(fs::exists(screenshot)) << screenshot;
+        const render::Image actual = render::read_png(screenshot, 3);
+        const render::GoldenDiff d = render::compare_golden(actual, expected);
+        std::printf("window vs off-screen: max difference %d levels, %.4f%% small, %.4f%% large\n", d.max_d,
+                    100 * d.small_share, 100 * d.large_share);
+        EXPECT_TRUE(d.pass) << "window screenshot differs from the off-screen render: max " << d.max_d << " levels, "
+                            << 100 * d.large_share << "% of pixels over 3 levels";
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(View, WithoutADisplayExits2AndSaysHowToGetAPicture) {
+    const Ran r = shell("env -u DISPLAY -u WAYLAND_DISPLAY " PLAUSIBLE_EXE " view pendulum");
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("plausible render"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("plausible video"), std::string::npos) << r.out;
+}
+
+TEST_F(View, BadOptionsExit2BeforeAWindowOpens) {
+    for (const char* args : {"pendulum --size 10x10", "pendulum --screenshot shot.jpg", "pendulum --exit-after -3",
+                             "no-such-scene", "pendulum --dt -1"}) {
+        const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view " + std::string(args));
+        EXPECT_EQ(r.status, 2) << args << ": " << r.out;
+        EXPECT_EQ(r.out.find("no display"), std::string::npos) << args << ": refused for the display, not the input";
+    }
+}
+
+// --exit-after N steps one scene frame per window frame: the last one is the
+// scene's frame N, bit for bit, and looks as `render` draws it.
+TEST_F(View, ExitAfterShowsTheSceneFrameAsTheOffScreenRenderDrawsIt) {
+    const Ran r = under_xvfb("$VIEW ragdoll --exit-after 40 --no-panel --size 480x270 --screenshot shot.png\n");
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(field(r.out, "frame"), "40") << r.out;
+    const Reference ref = reference("ragdoll", 40, 480, 270);
+    EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
+    expect_same_picture(dir_ / "shot.png", ref.image);
+}
+
+// Start paused, step 5, step back 2 (stored states), screenshot (P); resume,
+// pause, step once more, quit: each shown frame is the scene's frame, bits
+// and picture.
+TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
+    const Ran r = under_xvfb(R"(
+$VIEW pendulum --paused --no-panel --size 480x270 --screenshot last.png > out.txt 2>&1 &
+pid=$!
+win=$(xdotool search --sync --name "Plausible: pendulum" | head -1)
+xdotool windowfocus --sync "$win"
+sleep 0.3
+for k in 1 2 3 4 5; do xdotool key Right; sleep 0.05; done
+xdotool key Left; sleep 0.05; xdotool key Left; sleep 0.05
+xdotool key p; sleep 0.3
+xdotool key space; sleep 0.5; xdotool key space; sleep 0.1
+xdotool key Right; sleep 0.1
+xdotool key q
+wait $pid
+status=$?
+cat out.txt
+exit $status
+)");
+    ASSERT_EQ(r.status, 0) << r.out;
+    expect_same_picture(dir_ / "view-pendulum-3.png", reference("pendulum", 3, 480, 270).image);
+    const int last = std::stoi(field(r.out, "frame").empty() ? "0" : field(r.out, "frame"));
+    EXPECT_GT(last, 4) << "Space resumed for 0.5 s and Right stepped once more: " << r.out;
+    const Reference ref = reference("pendulum", last, 480, 270);
+    EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
+    expect_same_picture(dir_ / "last.png", ref.image);
+}
+
+// Left-drag on the pendulum's bob: the mouse spring grabs it and pulls it
+// away from where the undisturbed run has it.
+TEST_F(View, MouseDragGrabsTheBobAndPullsIt) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("pendulum"));
+    std::size_t bob = 0;
+    for (std::size_t i = 0; i < scene.model.particles.size(); ++i) {
+        if (!scene.model.particles[i].pinned) bob = i;
+    }
+    const auto pixel =
+        render::project_to_pixel(scene.camera, 480, 270, scene.model.particles[bob].position.cast<float>());
+    ASSERT_TRUE(pixel.has_value());
+    const std::string at =
+        std::to_string(static_cast<int>(pixel->x())) + " " + std::to_string(static_cast<int>(pixel->y()));
+    const std::string away =
+        std::to_string(static_cast<int>(pixel->x()) - 120) + " " + std::to_string(static_cast<int>(pixel->y()) - 60);
+    const Ran r = under_xvfb(R"(
+$VIEW pendulum --paused --no-panel --size 480x270 > out.txt 2>&1 &
+pid=$!
+win=$(xdotool search --sync --name "Plausible: pendulum" | head -1)
+xdotool windowfocus --sync "$win"
+sleep 0.3
+xdotool mousemove --window "$win" )" +
+                             at + R"(; sleep 0.2
+xdotool mousedown 1; sleep 0.2
+xdotool mousemove --window "$win" )" +
+                             away + R"(; sleep 0.2
+for k in $(seq 30); do xdotool key Right; sleep 0.02; done
+xdotool mouseup 1; sleep 0.1
+xdotool key q
+wait $pid
+status=$?
+cat out.txt
+exit $status
+)");
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_NE(r.out.find("grabbed particle " + std::to_string(bob)), std::string::npos) << r.out;
+    EXPECT_EQ(field(r.out, "frame"), "30") << r.out;
+    EXPECT_NE(field(r.out, "state"), reference("pendulum", 30, 16, 16).hash) << "the drag changed nothing: " << r.out;
+}
+
+}  // namespace
