@@ -49,6 +49,7 @@ bench: build
 	build/bench_mass_spring --benchmark_counters_tabular=true
 	build/bench_rigid --benchmark_counters_tabular=true
 	build/bench_render --benchmark_counters_tabular=true
+	build/bench_video --benchmark_counters_tabular=true
 
 test-sanitize: deps
 	cmake --preset sanitize >/dev/null

@@ -8,7 +8,13 @@
 
 #include <gtest/gtest.h>
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <thread>
 
 #include <cstdio>
 #include <filesystem>
@@ -103,6 +109,54 @@ TEST_F(Video, CompareShowsOneTilePerIntegrator) {
     EXPECT_GT(differ, 50) << "forward Euler's planet is elsewhere than symplectic Euler's after 3 s";
     // Outside the tiles (above them), the background.
     EXPECT_LT(pixel(160, 10, 0), 60);
+}
+
+// The ffmpeg process writing `name` (its command line holds the temporary
+// file's name), or 0.
+pid_t ffmpeg_writing(const std::string& name) {
+    for (const auto& entry : fs::directory_iterator("/proc")) {
+        const std::string pid = entry.path().filename().string();
+        if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::string comm, cmdline;
+        std::getline(std::ifstream(entry.path() / "comm"), comm);
+        std::getline(std::ifstream(entry.path() / "cmdline"), cmdline, '\x01');
+        if (comm == "ffmpeg" && cmdline.find(name) != std::string::npos) return static_cast<pid_t>(std::stoi(pid));
+    }
+    return 0;
+}
+
+// ffmpeg killed while frames are still coming: the next write fails (a broken
+// pipe, not a SIGPIPE that kills us), the error says so, and neither the video
+// nor its temporary or log file is left behind.
+TEST_F(Video, FfmpegKilledMidwayIsAnErrorAndLeavesNoFile) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
+    const scenes::VideoOptions o = options("killed.mp4", 320, 180, 30, 60.0);  // 1800 frames: ample time to kill
+    std::atomic<bool> finished{false};
+    std::atomic<pid_t> killed{0};
+    std::thread killer([&] {
+        for (int k = 0; k < 3000 && !finished; ++k) {
+            if (const pid_t pid = ffmpeg_writing(".killed.mp4.tmp-" + std::to_string(getpid())); pid != 0) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(200));  // a few frames in
+                ::kill(pid, SIGKILL);
+                killed = pid;
+                return;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    });
+    std::string message;
+    try {
+        scenes::write_video(scene, {}, o);
+    } catch (const std::runtime_error& e) {
+        message = e.what();
+    }
+    finished = true;
+    killer.join();
+    ASSERT_NE(killed.load(), 0) << "never saw the ffmpeg process";
+    EXPECT_NE(message.find("ffmpeg"), std::string::npos) << "no error, or one that does not name ffmpeg: " << message;
+    std::printf("error after ffmpeg was killed: %s\n", message.c_str());
+    EXPECT_FALSE(fs::exists(o.output));
+    for (const auto& entry : fs::directory_iterator(dir_)) ADD_FAILURE() << "left behind: " << entry.path();
 }
 
 TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace sim::test {
@@ -234,6 +235,94 @@ TEST(Rewind, PlasticRestLengthsAndRigidBodiesAreRewoundToo) {
     }
     EXPECT_EQ(world.state().x.raw(), straight.state().x.raw());
     EXPECT_EQ(world.rigid()->hash(), straight.rigid()->hash());
+}
+
+// The viewer's mouse spring. Hanging from it under gravity, a particle
+// settles where the spring holds its weight: m ω² d = m g, so the sag below
+// the target is d = g / ω² whatever the mass (the spring scales by it). The
+// spring acts as an implicit impulse before the integrator adds gravity; that
+// splitting makes the discrete sag D g / ω² with D = 1 + 2ζωh + ω²h² (the
+// fixed point of v1 = (v0 + ω²h (T - x0)) / D, v2 = v1 + g h = 0): first
+// order in h, exact for the closed form as h -> 0.
+TEST(Drag, AParticleHangsFromTheMouseSpringByGOverOmegaSquared) {
+    for (double mass : {0.001, 1.0, 70.0}) {
+        for (int substeps : {1, 100}) {
+            ParticleModel model;
+            model.particles.push_back(ParticleDef{Vec3(1, 2, 0), Vec3::Zero(), mass, false});
+            model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+            World world(model);
+            Drag drag;
+            drag.index = 0;
+            drag.target = Vec3(0, 3, 0);
+            world.set_drag(drag);
+            for (int i = 0; i < 600; ++i) world.step({Integrator::symplectic_euler, 1.0 / 60.0, substeps});
+            const double w = 2.0 * std::numbers::pi * drag.frequency, h = 1.0 / 60.0 / substeps;
+            const double closed_form = 9.81 / (w * w);  // m
+            const double discrete = (1.0 + 2.0 * drag.damping_ratio * w * h + w * w * h * h) * closed_form;
+            const double sag = drag.target.y() - world.state().x.get(0).y();
+            EXPECT_NEAR(sag, discrete, 1e-9) << "m, mass " << mass << " kg, h = " << h << " s";
+            if (substeps == 100) {
+                EXPECT_NEAR(sag, closed_form, 2e-4) << "m (g/ω² = " << closed_form << " m)";
+            }
+            EXPECT_NEAR(world.state().x.get(0).x(), drag.target.x(), 1e-9) << "m";
+            EXPECT_FALSE(world.verdict().exploded());
+            world.set_drag(std::nullopt);  // let go: it falls
+            world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+            EXPECT_LT(world.state().v.get(0).y(), -0.1) << "m/s";
+        }
+    }
+}
+
+// Implicit, so stable at any stiffness: 50 Hz at 1/30 s (ω h = 10) does not blow up.
+TEST(Drag, StaysStableWhenTheSpringIsFarStifferThanTheStep) {
+    ParticleModel model;
+    model.particles.push_back(ParticleDef{Vec3(0, 0, 0), Vec3::Zero(), 1.0, false});
+    World world(model);
+    Drag drag;
+    drag.target = Vec3(2, 0, 0);
+    drag.frequency = 50.0;
+    world.set_drag(drag);
+    for (int i = 0; i < 30; ++i) world.step({Integrator::forward_euler, 1.0 / 30.0, 1});
+    EXPECT_LT((world.state().x.get(0) - drag.target).norm(), 1e-3) << "m after 1 s";
+}
+
+TEST(Drag, ABodyHangsFromTheGrabbedPoint) {
+    ParticleModel model;
+    BodyDef ball;
+    ball.shape = RigidShape::sphere;
+    ball.size = Vec3(0.2, 0, 0);
+    ball.mass = 5.0;
+    ball.position = Vec3(0, 3, 0);
+    model.rigid.bodies.push_back(ball);
+    World world(model);
+    Drag drag;
+    drag.kind = Drag::Kind::body;
+    drag.index = 0;
+    drag.target = Vec3(0.5, 3.5, 0);  // the centre grabbed (anchor 0): no torque
+    world.set_drag(drag);
+    for (int i = 0; i < 600; ++i) world.step({Integrator::symplectic_euler, 1.0 / 60.0, 2});
+    const double w = 2.0 * std::numbers::pi * drag.frequency;
+    const Vec3 expected = drag.target - Vec3(0, 9.81 / (w * w), 0);
+    EXPECT_LT((world.rigid()->state({0, 0}).position - expected).norm(), 1e-3) << "m after 10 s";
+}
+
+TEST(Drag, RefusesWhatCannotBeGrabbed) {
+    ParticleModel model;
+    model.particles.push_back(ParticleDef{Vec3::Zero(), Vec3::Zero(), 1.0, true});
+    model.particles.push_back(ParticleDef{Vec3::Zero(), Vec3::Zero(), 1.0, false});
+    World world(model);
+    Drag d;
+    d.index = 0;
+    EXPECT_EQ(error_of([&] { world.set_drag(d); }), "drag: particle 0 is pinned");
+    d.index = 7;
+    EXPECT_EQ(error_of([&] { world.set_drag(d); }), "drag: no particle 7 (the world has 2)");
+    d.index = 1;
+    d.frequency = -1.0;
+    EXPECT_NE(error_of([&] { world.set_drag(d); }).find("frequency > 0 Hz"), std::string::npos);
+    d.frequency = 3.0;
+    d.kind = Drag::Kind::body;
+    EXPECT_EQ(error_of([&] { world.set_drag(d); }), "drag: no rigid body 1");
+    EXPECT_FALSE(world.drag().has_value());
 }
 
 TEST(Rigid, TheWatchdogWatchesBodiesToo) {
