@@ -1352,6 +1352,18 @@ SceneDef parse_with(std::string_view text, const std::string& display, const std
                          ": not valid TOML: " + std::string(e.description()));
     }
     for (const Override& o : overrides) apply_override(root, o, reader);
+    // A run shortened with --set frames=N (--frames N) shows the checkpoints it
+    // reaches, and at least its last frame; the file's own checkpoints stay checked.
+    const bool shortened =
+        std::any_of(overrides.begin(), overrides.end(), [](const Override& o) { return o.key == "frames"; });
+    const auto frames = root["frames"].value<long long>();
+    if (toml::array* checkpoints = root["checkpoints"].as_array(); shortened && frames && checkpoints) {
+        for (std::size_t i = checkpoints->size(); i-- > 0;) {
+            const auto f = (*checkpoints)[i].value<long long>();
+            if (f && *f > *frames) checkpoints->erase(checkpoints->begin() + static_cast<std::ptrdiff_t>(i));
+        }
+        if (checkpoints->empty()) checkpoints->push_back(*frames);
+    }
     return build(root, reader, name);
 }
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace scenes {
@@ -109,10 +111,39 @@ TEST(SceneFile, AHeavyBodyOnALightOneWarnsForTheIterativeSolverOnly) {
     EXPECT_TRUE(exact.warnings.empty()) << "ODE's exact solver does not mind the ratio";
 }
 
+// --frames N (--set frames=N) shortens a run: the checkpoints past N are
+// dropped, and the last frame is one when none is left. In the file itself a
+// checkpoint past `frames` stays an error.
+TEST(SceneFile, ShorteningARunKeepsTheCheckpointsItReaches) {
+    const std::string text =
+        "description = \"d\"\nframes = 60\ncheckpoints = [0, 30, 60]\n[[particles]]\nposition = [0, 1, 0]\n";
+    EXPECT_EQ(parse_scene(text, "short.toml", {{"frames", "40"}}).checkpoints, (std::vector<int>{0, 30}));
+    EXPECT_EQ(
+        parse_scene("description = \"d\"\nframes = 60\ncheckpoints = [30, 60]\n[[particles]]\nposition = [0, 1, 0]\n",
+                    "short.toml", {{"frames", "10"}})
+            .checkpoints,
+        (std::vector<int>{10}));
+    EXPECT_THROW(
+        parse_scene("description = \"d\"\nframes = 20\ncheckpoints = [0, 30]\n[[particles]]\nposition = [0, 1, 0]\n",
+                    "bad.toml"),
+        SceneError);
+}
+
 TEST(SceneFile, ShippedCatalogueLoads) {
     const auto names = catalog();
     ASSERT_GE(names.size(), 4u);
-    EXPECT_EQ(names.front(), "orbit");
+    // The first is the default demo: every kind of system at once.
+    EXPECT_EQ(names.front(), "showcase");
+    const SceneDef showcase = load_scene(resolve_scene("showcase"));
+    const auto heads = std::count_if(showcase.body_names.begin(), showcase.body_names.end(),
+                                     [](const std::string& n) { return n.size() > 5 && n.ends_with(".head"); });
+    EXPECT_GE(heads, 2) << "ragdolls (bones are named <ragdoll>.<bone>)";
+    EXPECT_FALSE(showcase.model.emitters.empty()) << "a particle effect";
+    auto has = [&](BodyLook::Kind kind) {
+        return std::any_of(showcase.bodies.begin(), showcase.bodies.end(),
+                           [&](const BodyLook& b) { return b.kind == kind; });
+    };
+    EXPECT_TRUE(has(BodyLook::Kind::rope) && has(BodyLook::Kind::cloth)) << "a rope and a cloth";
     for (const std::string& name : names) {
         const SceneDef s = load_scene(resolve_scene(name));
         EXPECT_EQ(s.name, name);
