@@ -421,7 +421,10 @@ int main(int argc, char** argv) {
     video_cmd->add_option("--seconds", video_options.seconds, "Simulated seconds (default: the scene's length)");
     video_cmd->add_option(
         "--compare", video_compare,
-        "Integrators side by side in lock step, comma-separated (e.g. forward_euler,symplectic_euler)");
+        "Tiles side by side in lock step, comma-separated: integrators (forward_euler,symplectic_euler) or "
+        "--set variants (step.substeps=1,step.substeps=8)");
+    video_cmd->add_flag("!--no-caption", video_options.caption,
+                        "No description across the bottom for the first seconds");
 
     SceneOptions view_scene;
     scenes::ViewOptions view_options;

@@ -43,12 +43,15 @@ void validate(const VideoOptions& o) {
     if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 3600.0) {
         throw sim::InputError("video: --seconds must be within 0 .. 3600 (got " + sim::format_value(o.seconds) + ")");
     }
-    if (o.compare.size() > 6) throw sim::InputError("video: --compare takes at most 6 integrators");
+    if (o.compare.size() > 6) throw sim::InputError("video: --compare takes at most 6 tiles");
     for (const std::string& name : o.compare) {
-        if (!sim::integrator_from_name(name)) {
+        if (name.find('=') != std::string::npos) {
+            parse_override(name);  // a --set variant, KEY=VALUE (the scene's loader checks the rest)
+        } else if (!sim::integrator_from_name(name)) {
             std::string known;
             for (const auto& info : sim::kIntegrators) known += (known.empty() ? "" : ", ") + std::string(info.name);
-            throw sim::InputError("video: --compare: unknown integrator '" + name + "' (one of " + known + ")");
+            throw sim::InputError("video: --compare: unknown integrator '" + name + "' (one of " + known +
+                                  "; or a --set variant KEY=VALUE)");
         }
     }
     const fs::path dir = o.output.has_parent_path() ? o.output.parent_path() : fs::path(".");
@@ -86,6 +89,24 @@ std::string read_all(const fs::path& path) {
     return s.str();
 }
 
+// `text` in lines of at most `width` px at text height `size` px (a glyph is
+// about 0.55 size wide on average), broken between words.
+std::vector<std::string> wrap(const std::string& text, float width, float size) {
+    const auto chars = static_cast<std::size_t>(std::max(10.0f, width / (0.55f * size)));
+    std::vector<std::string> lines;
+    std::istringstream words(text);
+    std::string line, word;
+    while (words >> word) {
+        if (!line.empty() && line.size() + 1 + word.size() > chars) {
+            lines.push_back(line);
+            line.clear();
+        }
+        line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty()) lines.push_back(line);
+    return lines;
+}
+
 // The compare grid's free cells (3 tiles in a 2 x 2 grid): the scene's name,
 // its description and the integrators in tile order, drawn once.
 void title_card(render::Image& frame, const SceneDef& scene, const std::vector<std::string>& compare, int x0, int y0,
@@ -97,19 +118,11 @@ void title_card(render::Image& frame, const SceneDef& scene, const std::vector<s
     float y = static_cast<float>(y0) + size;
     render::draw_text(frame, font, scene.name, left, y, 1.6f * size, light);
     y += 2.6f * size;
-    // The description, wrapped at about w / (0.55 size) characters.
-    const auto chars = static_cast<std::size_t>(std::max(10.0f, (static_cast<float>(w) - 2 * size) / (0.55f * size)));
-    std::istringstream words(scene.description);
-    std::string line, word;
-    while (words >> word) {
-        if (!line.empty() && line.size() + 1 + word.size() > chars) {
-            render::draw_text(frame, font, line, left, y, size, dim);
-            y += 1.4f * size;
-            line.clear();
-        }
-        line += (line.empty() ? "" : " ") + word;
+    // The description, wrapped to the cell.
+    for (const std::string& line : wrap(scene.description, static_cast<float>(w) - 2 * size, size)) {
+        render::draw_text(frame, font, line, left, y, size, dim);
+        y += 1.4f * size;
     }
-    if (!line.empty()) render::draw_text(frame, font, line, left, y, size, dim);
     y += 2.4f * size;
     std::string order = "Tiles: ";
     for (std::size_t i = 0; i < compare.size(); ++i) order += (i ? ", " : "") + compare[i];
@@ -127,8 +140,16 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     } else {
         for (const std::string& name : options.compare) {
             std::vector<Override> with = overrides;
-            with.push_back({"step.integrator", "\"" + name + "\""});
-            defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
+            if (name.find('=') != std::string::npos) {
+                with.push_back(parse_override(name));
+            } else {
+                with.push_back({"step.integrator", "\"" + name + "\""});
+            }
+            try {
+                defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
+            } catch (const SceneError& e) {
+                throw sim::InputError("video: --compare " + name + ": " + e.what());
+            }
         }
     }
     std::vector<std::unique_ptr<SceneRun>> runs;
@@ -148,6 +169,10 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     const int tile_h = static_cast<int>(tile_w / aspect) & ~1;
     const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
     const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
+    // The description as a caption for the first seconds, unless a compare
+    // grid's free cell shows it already.
+    const bool caption = options.caption && !scene.description.empty() && cols * rows == n;
+    const double caption_seconds = std::min(4.0, 0.4 * seconds);  // s of video
 
     const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
     const std::string tag = ".tmp-" + std::to_string(getpid());
@@ -174,8 +199,32 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
             }
             const auto p1 = Clock::now();
             for (int i = 0; i < n; ++i) {
-                const render::Image tile = renderer.render(runs[static_cast<std::size_t>(i)]->draw_list(tile_w, tile_h),
-                                                           {.width = tile_w, .height = tile_h, .msaa_samples = 4});
+                render::DrawList list = runs[static_cast<std::size_t>(i)]->draw_list(tile_w, tile_h);
+                const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
+                const bool labelled = !options.compare.empty() &&
+                                      options.compare[static_cast<std::size_t>(i)].find('=') != std::string::npos;
+                if (labelled) {
+                    // A --set variant: the HUD shows integrator and dt, the label what else differs.
+                    list.texts.push_back(
+                        render::Text{"--set " + options.compare[static_cast<std::size_t>(i)],
+                                     render::Vec2(0.5f * text, static_cast<float>(tile_h) - 1.6f * text), 0.85f * text,
+                                     render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+                }
+                if (caption && t < caption_seconds) {
+                    // The first seconds say what the scene shows, across the bottom.
+                    std::string lines;
+                    for (const std::string& line :
+                         wrap(scene.description, 0.9f * static_cast<float>(tile_w), 0.8f * text))
+                        lines += (lines.empty() ? "" : "\n") + line;
+                    const float height =
+                        0.8f * text * 1.25f * static_cast<float>(std::count(lines.begin(), lines.end(), '\n') + 1);
+                    list.texts.push_back(render::Text{lines,
+                                                      render::Vec2(0.5f * text, static_cast<float>(tile_h) - height -
+                                                                                    (labelled ? 2.2f : 0.8f) * text),
+                                                      0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+                }
+                const render::Image tile =
+                    renderer.render(list, {.width = tile_w, .height = tile_h, .msaa_samples = 4});
                 if (frame.pixels.empty()) {
                     frame.width = options.width;
                     frame.height = options.height;

@@ -19,8 +19,9 @@ struct VideoOptions {
     int width = 1280, height = 720;    // px, even
     int fps = 30;                      // frames per second of video, 1 .. 120
     double seconds = 0.0;              // of simulated time; 0: the scene's length
-    std::vector<std::string> compare;  // integrator names, one tile each; empty: one picture
+    std::vector<std::string> compare;  // one tile each: an integrator name or a --set variant KEY=VALUE
     bool progress = false;             // a progress bar with frames/s and ETA on stderr
+    bool caption = true;               // the scene's description across the bottom for the first seconds
 };
 
 struct VideoStats {

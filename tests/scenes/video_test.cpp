@@ -88,27 +88,41 @@ TEST_F(Video, AGifHasItsFrames) {
     EXPECT_EQ(probe(o.output, "stream=nb_read_frames"), "10");
 }
 
-TEST_F(Video, CompareShowsOneTilePerIntegrator) {
-    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("orbit"));
-    scenes::VideoOptions o = options("compare.mp4", 320, 180, 10, 3.0);
-    o.compare = {"forward_euler", "symplectic_euler"};
-    scenes::write_video(scene, {}, o);
-    // The last frame, raw: two 160x90 tiles side by side, centred vertically.
+// Pixels that differ (by more than 40 levels) between the left and right
+// tiles of the last frame of a 320x180 two-tile --compare video of the orbit.
+long tiles_differ(const fs::path& file) {
     const std::string rgb =
-        run("ffmpeg -v error -sseof -0.2 -i '" + o.output.string() + "' -frames:v 1 -f rawvideo -pix_fmt rgb24 -");
-    ASSERT_EQ(rgb.size(), 320u * 180u * 3u);
+        run("ffmpeg -v error -sseof -0.2 -i '" + file.string() + "' -frames:v 1 -f rawvideo -pix_fmt rgb24 -");
+    EXPECT_EQ(rgb.size(), 320u * 180u * 3u);
+    if (rgb.size() != 320u * 180u * 3u) return -1;
     auto pixel = [&](int x, int y, int c) { return static_cast<unsigned char>(rgb[(y * 320 + x) * 3 + c]); };
-    long differ = 0;  // pixels that differ between the left tile and the right one
-    for (int y = 45; y < 135; ++y) {
+    EXPECT_LT(pixel(160, 10, 0), 60) << "outside the tiles (above them): the background";
+    long differ = 0;
+    for (int y = 45; y < 135; ++y) {  // two 160x90 tiles side by side, centred vertically
         for (int x = 0; x < 160; ++x) {
             int d = 0;
             for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(pixel(x, y, c) - pixel(x + 160, y, c)));
             if (d > 40) ++differ;
         }
     }
-    EXPECT_GT(differ, 50) << "forward Euler's planet is elsewhere than symplectic Euler's after 3 s";
-    // Outside the tiles (above them), the background.
-    EXPECT_LT(pixel(160, 10, 0), 60);
+    return differ;
+}
+
+TEST_F(Video, CompareShowsOneTilePerIntegrator) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("orbit"));
+    scenes::VideoOptions o = options("compare.mp4", 320, 180, 10, 3.0);
+    o.compare = {"forward_euler", "symplectic_euler"};
+    scenes::write_video(scene, {}, o);
+    EXPECT_GT(tiles_differ(o.output), 50) << "forward Euler's planet is elsewhere than symplectic Euler's after 3 s";
+}
+
+// --set variants as tiles: the same integrator at two step sizes.
+TEST_F(Video, CompareTakesSetVariants) {
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("orbit"));
+    scenes::VideoOptions o = options("variants.mp4", 320, 180, 10, 3.0);
+    o.compare = {"step.dt=0.002", "step.dt=0.1"};
+    scenes::write_video(scene, {}, o);
+    EXPECT_GT(tiles_differ(o.output), 50) << "the orbit at dt = 0.1 s is elsewhere than at 0.002 s after 3 s";
 }
 
 // The ffmpeg process writing `name` (its command line holds the temporary
@@ -177,6 +191,9 @@ TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
     scenes::VideoOptions unknown = o;
     unknown.compare = {"rk4", "runge_kutta"};
     refused(unknown, "unknown integrator 'runge_kutta'");
+    scenes::VideoOptions variant = o;
+    variant.compare = {"step.dt=0.01", "step.nosuch=1"};
+    refused(variant, "--compare step.nosuch=1");
     scenes::VideoOptions nowhere = o;
     nowhere.output = dir_ / "no" / "such" / "folder" / "v.mp4";
     refused(nowhere, "not a writable folder");
