@@ -63,6 +63,7 @@ struct View {
     double ground_height = 0.0;    // m
     int trail_frames = 0;          // frames of trail behind each moving particle; 0: none
     double velocity_arrows = 0.0;  // s: an arrow of v * this per moving particle; 0: none
+    double force_arrows = 0.0;     // m/N: an arrow of the net force * this per moving particle; 0: none
     bool energy_plot = false;      // total energy over time, bottom right
     bool hud = true;               // scene, integrator, dt, t and E, top left
     bool water = false;            // a translucent water surface (scenes with buoyancy)

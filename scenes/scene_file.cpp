@@ -58,7 +58,7 @@
 //                color; visible (planes at the ground are not drawn twice)
 //   [watchdog]   enabled, max_speed (m/s), world_half_extent (m), energy_growth, energy_floor (J)
 //   [camera]     projection = "perspective"|"orthographic", eye, target, up, fov (deg), height (m)
-//   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), energy_plot, hud
+//   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), force_arrows (m/N), energy_plot, hud
 //   [[ghosts]]   particle, solution = "ballistic"|"oscillator"|"kepler"|"pendulum",
 //                anchor (oscillator, pendulum: the pinned particle), center (kepler);
 //                or body (a rigid body's centre of mass), solution = "ballistic"
@@ -1085,12 +1085,13 @@ struct Builder {
         const toml::table* t = top.subtable("view");
         if (t == nullptr) return;
         const Section s(r, *t, "view");
-        s.only({"ground", "ground_height", "trail_frames", "velocity_arrows", "energy_plot", "hud"});
+        s.only({"ground", "ground_height", "trail_frames", "velocity_arrows", "force_arrows", "energy_plot", "hud"});
         View& v = scene.view;
         v.ground = s.boolean("ground", v.ground);
         v.ground_height = s.number("ground_height", v.ground_height, -1e5, 1e5, "m");
         v.trail_frames = static_cast<int>(s.integer("trail_frames", v.trail_frames, 0, 100'000));
         v.velocity_arrows = s.number("velocity_arrows", v.velocity_arrows, 0.0, 1e3, "s");
+        v.force_arrows = s.number("force_arrows", v.force_arrows, 0.0, 1e9, "m/N");
         v.energy_plot = s.boolean("energy_plot", v.energy_plot);
         v.hud = s.boolean("hud", v.hud);
     }

@@ -218,9 +218,18 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
     for (const sim::Emitter& e : scene_.model.emitters) {
         for (std::uint32_t k = 0; k < e.count; ++k) unborn[e.first + k] = !sim::born(e, k, time());
     }
+    const sim::Vec3Array forces = scene_.view.force_arrows > 0 ? world_.net_forces() : sim::Vec3Array();
     for (std::size_t i = 0; i < s.size(); ++i) {
         const ParticleLook& look = scene_.looks[i];
         if (!look.visible || unborn[i]) continue;
+        if (s.inv_mass[i] != 0.0 && scene_.view.force_arrows > 0) {
+            const sim::Vec3 f = forces.get(i) * scene_.view.force_arrows;
+            if (f.norm() > look.radius) {
+                list.arrows.push_back(render::Arrow{
+                    to_render(s.x.get(i)), to_render(f), 0.2f * static_cast<float>(look.radius),
+                    0.45f * static_cast<float>(look.radius), render::Look{render::Color{0.85f, 0.2f, 0.15f, 1}}});
+            }
+        }
         list.spheres.push_back(
             render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
         if (s.inv_mass[i] != 0.0 && scene_.view.velocity_arrows > 0) {

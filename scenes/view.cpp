@@ -462,12 +462,14 @@ void Viewer::panel_ui() {
     // Top right: the scene's own title and numbers are top left.
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 10, 10), ImGuiCond_FirstUseEver, ImVec2(1, 0));
-    ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+    // As tall as its open sections, up to the window's height (then it scrolls).
+    ImGui::SetNextWindowSizeConstraints(ImVec2(400, 0), ImVec2(400, io.DisplaySize.y - 20));
     ImGui::SetNextWindowBgAlpha(0.85f);
-    if (!ImGui::Begin("Plausible")) {
+    if (!ImGui::Begin("Plausible", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::End();
         return;
     }
+    ImGui::PushItemWidth(210.0f);  // px; the rest of the row is the label
     ImGui::TextWrapped("%s", def_->description.c_str());
     ImGui::Text("frame %d   t = %.3f s", run_->frame(), run_->time());
     if (run_->verdict().exploded()) {
@@ -506,6 +508,22 @@ void Viewer::panel_ui() {
         if (ImGui::SliderInt("substeps", &step.substeps, 1, 64)) changed = true;
         if (changed) run_->set_step(step);
     }
+    if (ImGui::CollapsingHeader("Overlays")) {
+        // Drawing only: the run goes on as it was.
+        View& v = def_->view;
+        ImGui::Checkbox("title and numbers", &v.hud);
+        ImGui::SameLine();
+        ImGui::Checkbox("energy plot", &v.energy_plot);
+        ImGui::SliderInt("trail (frames)", &v.trail_frames, 0, 600);
+        auto arrows = [](const char* label, double& value, float lo, float hi) {
+            auto f = static_cast<float>(value);
+            if (ImGui::SliderFloat(label, &f, 0.0f, hi, f == 0.0f ? "off" : "%.3g", ImGuiSliderFlags_Logarithmic)) {
+                value = f < lo ? 0.0 : f;
+            }
+        };
+        arrows("velocity arrows (s)", v.velocity_arrows, 1e-3f, 10.0f);
+        arrows("force arrows (m/N)", v.force_arrows, 1e-6f, 1e4f);
+    }
     if (!parameters_.empty() && ImGui::CollapsingHeader("Scene parameters")) {
         ImGui::TextWrapped("The scene file's numbers; changing one rebuilds the scene from the file.");
         for (std::size_t k = 0; k < parameters_.size(); ++k) {
@@ -538,7 +556,12 @@ void Viewer::panel_ui() {
         std::snprintf(label, sizeof label, "%.1f ms/frame", r.empty() ? 0.0 : r.back());
         ImGui::PlotLines("rendering", r.data(), static_cast<int>(r.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
     }
-    ImGui::TextDisabled("drag: left   orbit: right   pan: middle   zoom: wheel");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped(
+        "Mouse: left drags a body (or orbits), right orbits, middle pans, wheel zooms. Keys: Space, Right/Left "
+        "step and step back, R reset, [ ] speed, I integrator, H panel, P screenshot, C camera, Q quit.");
+    ImGui::PopStyleColor();
+    ImGui::PopItemWidth();
     ImGui::End();
 }
 

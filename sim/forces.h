@@ -44,6 +44,10 @@ public:
     const UniformField* uniform_field() const override { return others_.empty() && has_field_ ? &field_ : nullptr; }
     void count_evaluations(std::size_t particles) override { particle_evaluations_ += particles; }
 
+    // The net force on every particle at (t, x, v), N, pinned ones included:
+    // for drawing force arrows (not counted as an evaluation).
+    void net_force(double t, ConstVec3Span x, ConstVec3Span v, Vec3Span f) const { sum_forces(input(t, 0, x, v), f); }
+
     // Potential energy of every generator at (t, x, v), J.
     double potential_energy(double t, ConstVec3Span x, ConstVec3Span v) const;
 

@@ -343,6 +343,12 @@ void World::step_once(Integrator integrator, double h) {
     ++steps_;
 }
 
+Vec3Array World::net_forces() const {
+    Vec3Array f(state_.size());
+    forces_.net_force(state_.t, state_.x.span(), state_.v.span(), f.span());
+    return f;
+}
+
 double World::kinetic_energy() const {
     double e = 0.0;
     for (std::size_t i = 0; i < state_.size(); ++i) {

@@ -143,6 +143,10 @@ public:
     // Throws InputError when the snapshot is of another model (particle count).
     void restore(const Snapshot& snapshot);
 
+    // The force generators' net force on each particle now, N (n): what force
+    // arrows draw. Constraints, contacts and the mouse are not forces here.
+    Vec3Array net_forces() const;
+
     double kinetic_energy() const;    // ½ Σ m v², J
     double potential_energy() const;  // every force's potential, J
     double energy() const { return kinetic_energy() + potential_energy(); }

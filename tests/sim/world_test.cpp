@@ -306,6 +306,21 @@ TEST(Drag, ABodyHangsFromTheGrabbedPoint) {
     EXPECT_LT((world.rigid()->state({0, 0}).position - expected).norm(), 1e-3) << "m after 10 s";
 }
 
+// What force arrows draw: a 2 kg bob hanging 1.5 m below a pinned point on a
+// spring of rest 1 m and 100 N/m feels k (1.5 - 1) = 50 N up and m g = 19.62 N down.
+TEST(NetForces, AreTheGeneratorsSumAtTheCurrentState) {
+    ParticleModel model;
+    model.particles.push_back(ParticleDef{Vec3(0, 3, 0), Vec3::Zero(), 1.0, true});
+    model.particles.push_back(ParticleDef{Vec3(0, 1.5, 0), Vec3::Zero(), 2.0, false});
+    model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+    model.forces.push_back(Springs{{Spring{0, 1, 1.0, 100.0, 0.0}}, {}});
+    const World world(model);
+    const Vec3Array f = world.net_forces();
+    EXPECT_NEAR(f.get(1).y(), 50.0 - 2.0 * 9.81, 1e-12) << "N";
+    EXPECT_NEAR(f.get(1).x(), 0.0, 1e-12) << "N";
+    EXPECT_DOUBLE_EQ(world.force_evaluations(), 0.0) << "drawing is not a force evaluation";
+}
+
 TEST(Drag, RefusesWhatCannotBeGrabbed) {
     ParticleModel model;
     model.particles.push_back(ParticleDef{Vec3::Zero(), Vec3::Zero(), 1.0, true});
