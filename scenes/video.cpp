@@ -11,12 +11,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -105,6 +107,36 @@ std::vector<std::string> wrap(const std::string& text, float width, float size) 
     }
     if (!line.empty()) lines.push_back(line);
     return lines;
+}
+
+// Side by side, plots of the same quantity share their axes (the energy of
+// forward Euler against symplectic Euler's on one scale: the lesson is the
+// difference), so each plot's range becomes the union over the tiles.
+void share_plot_ranges(std::vector<render::DrawList>& lists) {
+    if (lists.size() < 2) return;
+    std::map<std::string, std::array<float, 4>> range;  // title -> x min, x max, y min, y max
+    for (const render::DrawList& list : lists) {
+        for (const render::Plot& plot : list.plots) {
+            auto [it, fresh] =
+                range.try_emplace(plot.title, std::array<float, 4>{INFINITY, -INFINITY, INFINITY, -INFINITY});
+            auto& r = it->second;
+            for (const auto& series : plot.series) {
+                for (const render::Vec2& p : series.points) {
+                    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+                    r = {std::min(r[0], p.x()), std::max(r[1], p.x()), std::min(r[2], p.y()), std::max(r[3], p.y())};
+                }
+            }
+        }
+    }
+    for (render::DrawList& list : lists) {
+        for (render::Plot& plot : list.plots) {
+            const auto& r = range.at(plot.title);
+            if (!(r[3] > r[2])) continue;  // flat or empty: each fits its own
+            const float pad = 0.05f * (r[3] - r[2]);
+            plot.y_range = render::Vec2(r[2] - pad, r[3] + pad);
+            if (!plot.x_range && r[1] > r[0]) plot.x_range = render::Vec2(r[0], r[1]);
+        }
+    }
 }
 
 // The compare grid's free cells (3 tiles in a 2 x 2 grid): the scene's name,
@@ -198,8 +230,11 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
                 }
             }
             const auto p1 = Clock::now();
+            std::vector<render::DrawList> lists;
+            for (const auto& run : runs) lists.push_back(run->draw_list(tile_w, tile_h));
+            share_plot_ranges(lists);
             for (int i = 0; i < n; ++i) {
-                render::DrawList list = runs[static_cast<std::size_t>(i)]->draw_list(tile_w, tile_h);
+                render::DrawList& list = lists[static_cast<std::size_t>(i)];
                 const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
                 const bool labelled = !options.compare.empty() &&
                                       options.compare[static_cast<std::size_t>(i)].find('=') != std::string::npos;

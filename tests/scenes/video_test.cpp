@@ -173,6 +173,20 @@ TEST_F(Video, FfmpegKilledMidwayIsAnErrorAndLeavesNoFile) {
     for (const auto& entry : fs::directory_iterator(dir_)) ADD_FAILURE() << "left behind: " << entry.path();
 }
 
+// The same through the command: exit 2, a message naming the problem, no file.
+TEST_F(Video, TheCommandExits2OnBadArgumentsWithoutAFile) {
+    const std::string out = (dir_ / "v.mp4").string();
+    for (const std::string& args :
+         {"oscillator -o " + out + " --size 321x180", "oscillator -o " + out + " --compare rk4,runge_kutta",
+          "oscillator -o " + (dir_ / "nowhere" / "v.mp4").string(), "oscillator -o " + out + " --fps 0",
+          "no-such-scene -o " + out}) {
+        const std::string result = run(std::string(PLAUSIBLE_EXE) + " video " + args + " 2>&1; echo \"status=$?\"");
+        EXPECT_NE(result.find("status=2"), std::string::npos) << args << ": " << result;
+        EXPECT_NE(result.find("error"), std::string::npos) << args << ": " << result;
+    }
+    EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
+}
+
 TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
     auto refused = [&](scenes::VideoOptions o, const std::string& fragment) {
