@@ -8,6 +8,7 @@
 #include "render/renderer.h"
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
+#include "sim/integrators.h"
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,41 @@ exit $status
     const Reference ref = reference("pendulum", last, 480, 270);
     EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
     expect_same_picture(dir_ / "last.png", ref.image);
+}
+
+// I changes the integrator live: three steps with the scene's, three with the
+// next in the table, the same bits as that run made here.
+TEST_F(View, IChangesTheIntegratorLive) {
+    const Ran r = under_xvfb(R"(
+$VIEW oscillator --paused --no-panel --size 320x180 > out.txt 2>&1 &
+pid=$!
+win=$(xdotool search --sync --name "Plausible: oscillator" | head -1)
+xdotool windowfocus --sync "$win"
+sleep 0.3
+for k in 1 2 3; do xdotool key Right; sleep 0.05; done
+xdotool key i; sleep 0.05
+for k in 1 2 3; do xdotool key Right; sleep 0.05; done
+xdotool key q
+wait $pid
+status=$?
+cat out.txt
+exit $status
+)");
+    ASSERT_EQ(r.status, 0) << r.out;
+    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
+    scenes::SceneRun run(scene);
+    for (int k = 0; k < 3; ++k) run.advance();
+    sim::StepSettings step = run.step();
+    for (std::size_t k = 0; k < sim::kIntegrators.size(); ++k) {
+        if (sim::kIntegrators[k].id == step.integrator) {
+            step.integrator = sim::kIntegrators[(k + 1) % sim::kIntegrators.size()].id;
+            break;
+        }
+    }
+    run.set_step(step);
+    for (int k = 0; k < 3; ++k) run.advance();
+    EXPECT_EQ(field(r.out, "frame"), "6") << r.out;
+    EXPECT_EQ(field(r.out, "state"), run.state_hash_hex()) << r.out;
 }
 
 // Left-drag on the pendulum's bob: the mouse spring grabs it and pulls it
