@@ -67,6 +67,25 @@ protected:
                      file.string() + "'");
     }
 
+    // Starts `view SCENE ARGS` paused on the virtual display, focuses its
+    // window ($win), runs `actions` (xdotool lines), presses Q and returns
+    // what the viewer printed, with its exit status.
+    Ran drive(const std::string& scene, const std::string& args, const std::string& actions) const {
+        return under_xvfb("$VIEW " + scene + " --paused --no-panel " + args + " > out.txt 2>&1 &\n" +
+                          "pid=$!\n"
+                          "win=$(xdotool search --sync --name 'Plausible: " +
+                          scene +
+                          "' | head -1)\n"
+                          "xdotool windowfocus --sync \"$win\"\n"
+                          "sleep 0.3\n" +
+                          actions +
+                          "\nxdotool key q\n"
+                          "wait $pid\n"
+                          "status=$?\n"
+                          "cat out.txt\n"
+                          "exit $status\n");
+    }
+
     // The scene run here for `frames` frames: its state hash and its picture
     // rendered off-screen as the window shows it (same size, 4x MSAA).
     struct Reference {
@@ -130,22 +149,12 @@ TEST_F(View, ExitAfterShowsTheSceneFrameAsTheOffScreenRenderDrawsIt) {
 // pause, step once more, quit: each shown frame is the scene's frame, bits
 // and picture.
 TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
-    const Ran r = under_xvfb(R"(
-$VIEW pendulum --paused --no-panel --size 480x270 --screenshot last.png > out.txt 2>&1 &
-pid=$!
-win=$(xdotool search --sync --name "Plausible: pendulum" | head -1)
-xdotool windowfocus --sync "$win"
-sleep 0.3
+    const Ran r = drive("pendulum", "--size 480x270 --screenshot last.png", R"(
 for k in 1 2 3 4 5; do xdotool key Right; sleep 0.05; done
 xdotool key Left; sleep 0.05; xdotool key Left; sleep 0.05
 xdotool key p; sleep 0.3
 xdotool key space; sleep 0.5; xdotool key space; sleep 0.1
 xdotool key Right; sleep 0.1
-xdotool key q
-wait $pid
-status=$?
-cat out.txt
-exit $status
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     expect_same_picture(dir_ / "view-pendulum-3.png", reference("pendulum", 3, 480, 270).image);
@@ -159,20 +168,10 @@ exit $status
 // I changes the integrator live: three steps with the scene's, three with the
 // next in the table, the same bits as that run made here.
 TEST_F(View, IChangesTheIntegratorLive) {
-    const Ran r = under_xvfb(R"(
-$VIEW oscillator --paused --no-panel --size 320x180 > out.txt 2>&1 &
-pid=$!
-win=$(xdotool search --sync --name "Plausible: oscillator" | head -1)
-xdotool windowfocus --sync "$win"
-sleep 0.3
+    const Ran r = drive("oscillator", "--size 320x180", R"(
 for k in 1 2 3; do xdotool key Right; sleep 0.05; done
 xdotool key i; sleep 0.05
 for k in 1 2 3; do xdotool key Right; sleep 0.05; done
-xdotool key q
-wait $pid
-status=$?
-cat out.txt
-exit $status
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
@@ -206,24 +205,12 @@ TEST_F(View, MouseDragGrabsTheBobAndPullsIt) {
         std::to_string(static_cast<int>(pixel->x())) + " " + std::to_string(static_cast<int>(pixel->y()));
     const std::string away =
         std::to_string(static_cast<int>(pixel->x()) - 120) + " " + std::to_string(static_cast<int>(pixel->y()) - 60);
-    const Ran r = under_xvfb(R"(
-$VIEW pendulum --paused --no-panel --size 480x270 > out.txt 2>&1 &
-pid=$!
-win=$(xdotool search --sync --name "Plausible: pendulum" | head -1)
-xdotool windowfocus --sync "$win"
-sleep 0.3
-xdotool mousemove --window "$win" )" +
-                             at + R"(; sleep 0.2
+    const Ran r = drive("pendulum", "--size 480x270", R"(
+xdotool mousemove --window "$win" )" + at + R"(; sleep 0.2
 xdotool mousedown 1; sleep 0.2
-xdotool mousemove --window "$win" )" +
-                             away + R"(; sleep 0.2
+xdotool mousemove --window "$win" )" + away + R"(; sleep 0.2
 for k in $(seq 30); do xdotool key Right; sleep 0.02; done
 xdotool mouseup 1; sleep 0.1
-xdotool key q
-wait $pid
-status=$?
-cat out.txt
-exit $status
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_NE(r.out.find("grabbed particle " + std::to_string(bob)), std::string::npos) << r.out;
