@@ -294,6 +294,21 @@ int render_scene(const SceneOptions& options, const RenderOptions& r) {
             frames.push_back(static_cast<int>(f));
         }
     }
+    // The contact sheet: one row while it stays under 8192 px, else rows of
+    // as many frames as fit that width; refused up front (nothing written)
+    // when the rows would pass the 16384 px an image may have.
+    render::SheetOptions sheet_options;
+    sheet_options.label_size = std::max(14.0f, static_cast<float>(h) / 28.0f);  // px, readable beside large frames
+    const int n = static_cast<int>(frames.size());
+    const int per_row = std::max(1, 8192 / (w + sheet_options.padding));
+    sheet_options.columns = n <= per_row ? 0 : per_row;
+    const int row_h = h + 2 * static_cast<int>(sheet_options.label_size) + 2 * sheet_options.padding;  // px, with label
+    const int max_frames = per_row * std::max(1, 16384 / row_h);
+    if (n > max_frames) {
+        throw sim::InputError("--frames: " + std::to_string(n) + " frames of " + r.size +
+                              " do not fit one contact sheet (at most " + std::to_string(max_frames) +
+                              "); ask for fewer frames or a smaller --size, or use `plausible video`");
+    }
     fs::create_directories(r.out);
     const auto context = render::create_context({.backend = backend});
     render::Renderer renderer(*context);
@@ -313,8 +328,6 @@ int render_scene(const SceneOptions& options, const RenderOptions& r) {
         if (run.verdict().exploded()) break;
     }
     const fs::path sheet = fs::path(r.out) / (scene.name + "_sheet.png");
-    render::SheetOptions sheet_options;
-    sheet_options.label_size = std::max(14.0f, static_cast<float>(h) / 28.0f);  // px, readable beside large frames
     render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font(), sheet_options));
     std::printf("%s\n", sheet.c_str());
     if (run.verdict().exploded()) {

@@ -160,4 +160,25 @@ TEST(SetOverrides, BadValuesNameTheOverride) {
     fs::remove_all(dir);
 }
 
+// More frames than one contact sheet can hold (16384 px): refused before a
+// frame is written, with the limit; a long list that fits is tiled in rows.
+TEST(RenderCommand, FramesThatCannotFitOneSheetAreRefusedUpFront) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_render_frames_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::string all;
+    for (int f = 0; f <= 240; ++f) {
+        if (f > 0) all += ',';
+        all += std::to_string(f);
+    }
+    Result r = run("render cloth --size 1280x720 --frames " + all + " --out '" + (dir / "frames").string() + "'", dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("do not fit one contact sheet (at most 126)"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "frames"));
+    r = run("render orbit --size 64x36 --frames " + all + " --out '" + (dir / "small").string() + "'", dir);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "small" / "orbit_sheet.png"));
+    fs::remove_all(dir);
+}
+
 }  // namespace
