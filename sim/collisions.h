@@ -16,18 +16,21 @@
 // Particle pairs (free particles only: a pinned particle is no obstacle; use
 // a collider for that): found on a grid of cells twice the largest radius
 // over the free particles' box, each particle tested against its own cell
-// and the 13 "forward" neighbour cells (each pair once) on a copy of the
-// positions sorted by cell (the pass reads memory in order); positions
-// pushed apart in proportion to inverse mass, then the same restitution and
-// friction on the relative velocity. The grid is rebuilt every substep by
-// counting sort and pairs are visited in cell order, so the result is the
-// same bits on every run.
+// and the 13 "forward" neighbour cells (each pair once; a cell farther from
+// the particle than the largest reach is skipped) on a copy of the positions
+// sorted by cell (the pass reads memory in order). The overlapping pairs are
+// listed first, then resolved in that order: positions pushed apart in
+// proportion to inverse mass, then the same restitution and friction on the
+// relative velocity. The grid is rebuilt every substep by counting sort and
+// pairs are visited in cell order, so the result is the same bits on every
+// run.
 #pragma once
 
 #include "sim/vec3_array.h"
 
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 #include <variant>
 #include <vector>
@@ -83,15 +86,21 @@ struct SurfacePoint {
 };
 SurfacePoint surface_point(const Collider& collider, const Vec3& p);
 
+// A cell of the particle grid: its index along each axis.
+struct GridCell {
+    std::int32_t x = 0, y = 0, z = 0;
+};
+
 // Scratch and counters of the collision pass (state that changes every step;
 // not part of a scene's description).
 struct CollisionScratch {
-    std::vector<std::uint32_t> cell_start;    // (cells + 1) counting-sort offsets
-    std::vector<std::uint32_t> cell_entries;  // particle indices sorted by cell
-    std::vector<std::uint32_t> cell_fill;     // (cells) counting-sort cursors, kept to reuse their memory
-    std::vector<std::int32_t> cell_of;        // cell of each particle (-1: not in the grid)
-    std::vector<double> sorted;               // (4 x entries) x, y, z, radius in entry order, m
-    std::size_t contacts = 0;                 // contacts resolved in the last pass
+    std::vector<std::uint32_t> cell_start;            // (cells + 2) counting-sort offsets, cell k's first entry at [k]
+    std::vector<std::uint32_t> cell_entries;          // particle indices sorted by cell
+    std::vector<std::int32_t> cell_of;                // cell of each particle (-1: not in the grid)
+    std::vector<GridCell> cell_xyz;                   // cell coordinates of each particle in the grid
+    std::vector<double> sorted;                       // (4 x entries) x, y, z, radius in entry order, m
+    std::vector<std::array<std::uint32_t, 2>> pairs;  // overlapping pairs found, as entry indices
+    std::size_t contacts = 0;                         // contacts resolved in the last pass
 };
 
 // A collider that moves rigidly (a rigid body's part), for one-way coupling:

@@ -47,6 +47,8 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
             field_.c2 += drag2->c;
         } else {
             others_.push_back(&force);
+            const auto* springs = std::get_if<Springs>(&force);
+            plans_.push_back(springs ? plan_springs(*springs, mass.size()) : SpringPlan{});
             continue;
         }
         has_field_ = true;
@@ -96,8 +98,12 @@ void ParticleForces::sum_forces(const ForceInput& in, Vec3Span f) const {
             std::fill(f.c[k], f.c[k] + f.n, 0.0);
         }
     }
-    for (const ForceDef* force : others_) {
-        std::visit([&](const auto& g) { accumulate(g, in, f); }, *force);
+    for (std::size_t k = 0; k < others_.size(); ++k) {
+        if (const auto* springs = std::get_if<Springs>(others_[k])) {
+            accumulate(*springs, plans_[k], in, f);
+        } else {
+            std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);
+        }
     }
 }
 

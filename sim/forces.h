@@ -68,6 +68,10 @@ private:
     UniformField field_;
     bool has_field_ = false;
     std::vector<const ForceDef*> others_;  // generators outside the field, in scene order
+    // (others_) each spring generator's plan for the fast pass, with its
+    // scratch (empty for other generators); mutable: scratch, not state, and
+    // net_force (const) takes the same path.
+    mutable std::vector<SpringPlan> plans_;
     const std::vector<double>* mass_;
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;

@@ -53,7 +53,31 @@ Vec3 spring_force(const Spring& s, const Vec3& xi, const Vec3& xj, const Vec3& v
 
 void validate(const Springs& springs, std::size_t particle_count);
 constexpr bool is_local(const Springs&) { return false; }
+// The reference loop: spring_force for each spring in list order, added to
+// its first particle and subtracted from its second.
 void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f);
+
+// A spring list laid out for the fast force pass below: index arrays for the
+// two particles of each spring, and at each particle the ends of its springs
+// in list order. It depends on the topology only (which particles each spring
+// joins), not on rest lengths, which plastic springs change: built once per
+// generator (ParticleForces keeps one), with the pass's scratch.
+struct SpringPlan {
+    std::vector<std::uint32_t> i, j;    // (springs) first and second particle of each spring
+    std::vector<std::uint32_t> first;   // (particles + 1) particle p's ends are [first[p], first[p + 1])
+    std::vector<std::uint32_t> spring;  // (2 x springs) the spring of each end, in list order at each particle
+    std::vector<double> sign;           // (2 x springs) +1 at a spring's first particle, -1 at its second
+    bool zero_rest = false;             // a spring of rest length 0 (force k d): the reference loop only
+    std::vector<double> gx, gy, gz;     // (springs) scratch: force on each spring's first particle, N
+};
+SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);
+
+// The same bits as accumulate(springs, in, f), faster on large systems: the
+// force of every spring first (a loop the compiler vectorises), then each
+// particle's sum in list order. Falls back to the reference loop for a plan
+// that does not fit (other springs, a block of the system) and when a spring
+// has zero length.
+void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f);
 // U = Σ ½ k (|d| - ℓ)².
 double potential_energy(const Springs& springs, const ForceInput& in);
 // ∂f/∂x from the stretch and the change of direction, with the transverse term

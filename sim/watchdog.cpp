@@ -78,14 +78,14 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
     // particle, in the documented order, when anything is off.
     const double speed2_limit = limits.max_speed * limits.max_speed;
     const double box = limits.world_half_extent;
-    bool suspect = false;
+    std::size_t suspect = 0;  // a count, not a bool: GCC vectorises the loop only so
     for (std::size_t i = 0; i < n; ++i) {
         const double s2 = v[0][i] * v[0][i] + v[1][i] * v[1][i] + v[2][i] * v[2][i];
         const double reach = std::max({std::abs(x[0][i]), std::abs(x[1][i]), std::abs(x[2][i])});
         // NaN fails both comparisons, so !(a <= b) also catches it.
-        suspect |= !(s2 <= speed2_limit) | !(reach <= box);
+        suspect += !(s2 <= speed2_limit) | !(reach <= box);
     }
-    if (suspect) {
+    if (suspect > 0) {
         const Verdict found = first_violation(
             limits, n, [&](std::size_t i) { return state.x.get(i); }, [&](std::size_t i) { return state.v.get(i); },
             frame);

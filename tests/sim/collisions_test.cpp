@@ -4,6 +4,7 @@
 #include "sim/collisions.h"
 #include "sim/error.h"
 #include "sim/mass_spring.h"
+#include "sim/random.h"
 #include "sim/world.h"
 
 #include <gtest/gtest.h>
@@ -137,6 +138,31 @@ TEST(Collisions, ManyParticlesInAHeapNeverOverlapMuchAndAreDeterministic) {
     for (std::size_t i = 0; i < a.state().size(); ++i) {
         ASSERT_GE(a.state().x.get(i).y(), 0.02 - 1e-9) << "m: particle " << i << " below the ground";
     }
+}
+
+TEST(Collisions, TheGridFindsEveryOverlapAcrossCellFaces) {
+    // 1000 pairs of particles (r = 1 cm) overlapping by 0.1 % of their reach,
+    // pointing every way, scattered over a lattice 10 cm apart (so the pairs
+    // never touch each other): 2000 particles over 1 m make the grid coarsen
+    // its cells to 4 cm, 4 r, where the pass leaves out neighbour cells
+    // farther than 2 r from a particle. Many pairs straddle a cell face, in
+    // every direction; each must be found.
+    const double r = 0.01;  // m
+    Random random(5);
+    Vec3Array x0(2000), x(2000), v(2000);
+    std::vector<double> radius(2000, r), inv_mass(2000, 1.0);
+    for (int k = 0; k < 1000; ++k) {
+        const Vec3 jitter(random.uniform(0.0, 0.05), random.uniform(0.0, 0.05), random.uniform(0.0, 0.05));  // m
+        const Vec3 centre = 0.1 * Vec3(k % 10, (k / 10) % 10, k / 100) + jitter;
+        const Vec3 half = (0.999 * r) * random.unit_vector();  // m: centres 0.999 (2 r) apart
+        x.set(2 * k, centre - half);
+        x.set(2 * k + 1, centre + half);
+    }
+    x0 = x;
+    Collisions pairs;
+    pairs.particle_particle = true;
+    CollisionScratch scratch;
+    EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1000u);
 }
 
 // Cloth self-collision is particle collision among the cloth's own nodes:

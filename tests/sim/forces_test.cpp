@@ -1,12 +1,16 @@
 // Force generators: the lecture's spring formula, Newton's third law, safety
-// at zero length, potentials and Jacobians (checked by central differences),
-// and the refusal of bad parameters.
+// at zero length, the fast spring pass against the reference loop (bit for
+// bit), potentials and Jacobians (checked by central differences), and the
+// refusal of bad parameters.
 #include "sim/forces.h"
 #include "sim/error.h"
+#include "sim/mass_spring.h"
+#include "sim/random.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <utility>
 
@@ -90,6 +94,61 @@ TEST(Spring, ZeroLengthGivesNoNaN) {
         EXPECT_TRUE(std::isfinite(e.value()));
     }
     EXPECT_DOUBLE_EQ(potential_energy(springs, fx.input()), 0.5 * 100.0 * 1.0);
+}
+
+// The same doubles to the last bit (NaN payloads and the sign of zero included).
+bool same_bits(const Vec3Array& a, const Vec3Array& b) {
+    return a.raw().size() == b.raw().size() &&
+           std::memcmp(a.raw().data(), b.raw().data(), a.raw().size() * sizeof(double)) == 0;
+}
+
+TEST(Spring, FastPassGivesTheReferenceLoopsBits) {
+    // A 16 x 16 cloth (structural, shear and bend springs), crumpled and moving.
+    ParticleModel model;
+    ClothDef cloth;
+    cloth.nx = cloth.ny = 16;
+    cloth.links.damping = 0.3;  // N·s/m
+    add_cloth(model, cloth);
+    Springs springs = std::get<Springs>(model.forces.at(0));
+    const std::size_t n = model.particles.size();
+    Fixture fx(n);
+    Random random(11);
+    for (std::size_t i = 0; i < n; ++i) {
+        fx.x.set(i, model.particles[i].position + 0.02 * random.unit_vector());
+        fx.v.set(i, random.normal(0.0, 1.0) * random.unit_vector());
+    }
+    // Both start from the same forces (gravity, say): the order of the
+    // additions shows in the bits.
+    Vec3Array reference(n);
+    for (std::size_t i = 0; i < n; ++i) reference.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
+    Vec3Array fast = reference;
+    SpringPlan plan = plan_springs(springs, n);
+    accumulate(springs, fx.input(), reference.span());
+    accumulate(springs, plan, fx.input(), fast.span());
+    EXPECT_TRUE(same_bits(reference, fast));
+
+    // Plastic springs change rest lengths, not the plan (it holds the topology only).
+    for (Spring& s : springs.list) s.rest *= 1.1;
+    Vec3Array reference2(n), fast2(n);
+    accumulate(springs, fx.input(), reference2.span());
+    accumulate(springs, plan, fx.input(), fast2.span());
+    EXPECT_TRUE(same_bits(reference2, fast2)) << "after rest lengths changed";
+
+    // Two particles on top of each other (no direction: the reference loop
+    // leaves the spring out) and a spring of rest length 0 (force k d): the
+    // fast pass hands both to the reference loop.
+    fx.x.set(1, fx.x.get(0));
+    Vec3Array reference3(n), fast3(n);
+    accumulate(springs, fx.input(), reference3.span());
+    accumulate(springs, plan, fx.input(), fast3.span());
+    EXPECT_TRUE(same_bits(reference3, fast3)) << "a spring of length 0";
+    springs.list.push_back({2, 40, 0.0, 50.0, 0.1});
+    SpringPlan zero_rest = plan_springs(springs, n);
+    EXPECT_TRUE(zero_rest.zero_rest);
+    Vec3Array reference4(n), fast4(n);
+    accumulate(springs, fx.input(), reference4.span());
+    accumulate(springs, zero_rest, fx.input(), fast4.span());
+    EXPECT_TRUE(same_bits(reference4, fast4)) << "a spring of rest length 0";
 }
 
 TEST(Spring, PotentialIsHalfKStretchSquared) {
