@@ -365,19 +365,11 @@ private:
         return 200 + n * 5 * 3 * sizeof(double) + bodies * sizeof(sim::BodyState);
     }
 
-    void reset() {
-        const sim::StepSettings step = run_->step();
-        release();
-        run_ = std::make_unique<SceneRun>(*def_);
-        run_->set_step(step);
-        history_.clear();
-        history_bytes_ = 0;
-        accumulator_ = 0.0;
-        last_times_ = {};
-        last_frame_ = 0;
-    }
+    // Back to frame 0 with the live step settings (and the description as it is).
+    void reset() { start(std::make_unique<SceneRun>(*def_)); }
 
     // Rebuilds the scene from its file with the panel's edits as overrides.
+    // Nothing changes unless the new scene builds.
     void rebuild() {
         std::vector<Override> with = overrides_;
         for (std::size_t k = 0; k < parameters_.size(); ++k) {
@@ -387,14 +379,30 @@ private:
         }
         try {
             auto def = std::make_unique<SceneDef>(load_scene(def_->file, with));
+            def->view = def_->view;  // the overlays chosen in the panel stay
+            auto run = std::make_unique<SceneRun>(*def);
+            run->set_step(run_->step());
             release();
-            run_.reset();
+            run_.reset();  // it refers to the old description
             def_ = std::move(def);
-            reset();
+            start(std::move(run));
             error_.clear();
         } catch (const sim::InputError& e) {
             error_ = e.what();  // shown in the panel; the running scene stays as it was
         }
+    }
+
+    void start(std::unique_ptr<SceneRun> run) {
+        if (run_) {
+            run->set_step(run_->step());
+            release();
+        }
+        run_ = std::move(run);
+        history_.clear();
+        history_bytes_ = 0;
+        accumulator_ = 0.0;
+        last_times_ = {};
+        last_frame_ = 0;
     }
 
     void next_integrator() {
@@ -576,7 +584,8 @@ void framebuffer_size(GLFWwindow* window, int& width, int& height) {
 }
 
 void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
-    if (action == GLFW_RELEASE || ImGui::GetIO().WantCaptureKeyboard) return;
+    // Shortcuts work while the panel has focus, except when it is taking typed text.
+    if (action == GLFW_RELEASE || ImGui::GetIO().WantTextInput) return;
     viewer_of(window)->key(key);
 }
 
