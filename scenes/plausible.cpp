@@ -497,7 +497,7 @@ int main(int argc, char** argv) {
             std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s\n", scene.name.c_str(), v.frame, v.time,
                         v.state_hash.c_str(), v.exploded ? " (exploded)" : "",
                         view_screenshot.empty() ? "" : (", screenshot " + view_screenshot).c_str());
-            return kExitOk;
+            return v.exploded ? kExitFailed : kExitOk;
         }
         if (*report_cmd) {
             report_options.out = report_out;

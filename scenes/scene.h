@@ -113,14 +113,15 @@ SceneDef parse_scene(std::string_view text, const std::string& display_name,
                      const std::vector<Override>& overrides = {});
 
 // A number in the scene file that a person may want to turn (the viewer's
-// sliders): its --set key and its value in the file. Changing one rebuilds
-// the scene from the file with the key overridden.
+// sliders): its --set key and its value in the file, or in `overrides` when
+// one sets it. Changing one rebuilds the scene from the file with the key
+// overridden.
 struct Parameter {
     std::string key;  // e.g. forces.springs[0].stiffness
     double value = 0.0;
     bool integer = false;
 };
-std::vector<Parameter> scene_parameters(const SceneDef& scene);
+std::vector<Parameter> scene_parameters(const SceneDef& scene, const std::vector<Override>& overrides = {});
 
 // Shipped scenes: the ordered catalogue (scenes/catalog.txt) and where their
 // files live ($PLAUSIBLE_SCENES_DIR, else the source tree's scenes/).

@@ -1475,7 +1475,7 @@ void collect_parameters(const toml::node& node, const std::string& key, std::vec
 
 }  // namespace
 
-std::vector<Parameter> scene_parameters(const SceneDef& scene) {
+std::vector<Parameter> scene_parameters(const SceneDef& scene, const std::vector<Override>& overrides) {
     toml::table root;
     try {
         root = toml::parse_file(scene.file.string());
@@ -1493,6 +1493,15 @@ std::vector<Parameter> scene_parameters(const SceneDef& scene) {
             continue;
         }
         out.push_back(p);
+    }
+    // The values this run uses: the last --set of a key wins, as in the loader.
+    for (const Override& o : overrides) {
+        for (Parameter& p : out) {
+            if (p.key != o.key) continue;
+            char* end = nullptr;
+            const double v = std::strtod(o.value.c_str(), &end);
+            if (end != o.value.c_str() && *end == '\0') p.value = v;
+        }
     }
     return out;
 }

@@ -65,10 +65,18 @@ void SceneRun::set_step(const sim::StepSettings& step) {
     step_ = step;
 }
 
+std::size_t SceneRun::Snapshot::bytes() const {
+    std::size_t trail_points = 0;
+    for (const auto& trail : trails) trail_points += trail.size();
+    const sim::World::Snapshot& w = world;
+    return sizeof(*this) + sizeof(double) * 3 * (2 * w.state.size() + w.memory_a.size() + w.memory_x_prev.size()) +
+           sizeof(double) * (2 * w.state.size() + w.plastic_rest.size()) + sizeof(sim::BodyState) * w.bodies.size() +
+           sizeof(render::Vec3) * trail_points + sizeof(std::deque<render::Vec3>) * trails.size();
+}
+
 void SceneRun::restore(const Snapshot& snapshot) {
     world_.restore(snapshot.world);
     frame_ = snapshot.frame;
-    step_ = snapshot.step;
     trails_ = snapshot.trails;
     while (!energy_.empty() && energy_.back().x() > static_cast<float>(time()) + 1e-6f) energy_.pop_back();
 }

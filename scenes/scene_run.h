@@ -29,14 +29,15 @@ public:
 
     // Everything a frame needs to be shown again and stepped on from (the
     // viewer's step back): the world's snapshot, the frame counter and the
-    // trails; the energy curve is cut back to the frame.
+    // trails; the energy curve is cut back to the frame. The step settings
+    // stay as they are now (an integrator chosen since is kept).
     struct Snapshot {
         sim::World::Snapshot world;
         int frame = 0;
-        sim::StepSettings step;
         std::vector<std::deque<render::Vec3>> trails;
+        std::size_t bytes() const;  // about what it holds, for a history's budget
     };
-    Snapshot snapshot() const { return {world_.snapshot(), frame_, step_, trails_}; }
+    Snapshot snapshot() const { return {world_.snapshot(), frame_, trails_}; }
     void restore(const Snapshot& snapshot);
     // Mouse drags and other direct edits.
     sim::World& world_for_edit() { return world_; }

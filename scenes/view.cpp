@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -42,9 +43,10 @@ using render::Vec3;
 struct Orbit {
     render::Camera base;  // the scene's camera (C goes back to it)
     Vec3 target = Vec3::Zero();
-    float yaw = 0.0f;       // rad
-    float pitch = 0.0f;     // rad, within ±85°
-    float distance = 1.0f;  // m
+    float yaw = 0.0f;                          // rad
+    float pitch = 0.0f;                        // rad, within ±kMaxPitch
+    static constexpr float kMaxPitch = 1.48f;  // rad (85°): never straight down, where "up" is undefined
+    float distance = 1.0f;                     // m
     float ortho_height = 4.0f;
 
     explicit Orbit(const render::Camera& camera) : base(camera) { reset(); }
@@ -53,7 +55,7 @@ struct Orbit {
         target = base.target;
         const Vec3 d = base.eye - base.target;
         distance = std::max(1e-3f, d.norm());
-        pitch = std::asin(std::clamp(d.y() / distance, -1.0f, 1.0f));
+        pitch = std::clamp(std::asin(std::clamp(d.y() / distance, -1.0f, 1.0f)), -kMaxPitch, kMaxPitch);
         yaw = std::atan2(d.x(), d.z());
         ortho_height = base.ortho_height;
     }
@@ -66,9 +68,10 @@ struct Orbit {
         c.ortho_height = ortho_height;
         return c;
     }
-    void rotate(float dx, float dy) {  // px of mouse motion
-        yaw -= 0.008f * dx;
-        pitch = std::clamp(pitch + 0.008f * dy, -1.48f, 1.48f);
+    void rotate(float dx, float dy) {        // px of mouse motion
+        constexpr float kRadPerPx = 0.008f;  // rad per px of mouse motion: 400 px turn ~180°
+        yaw -= kRadPerPx * dx;
+        pitch = std::clamp(pitch + kRadPerPx * dy, -kMaxPitch, kMaxPitch);
     }
     void pan(float dx, float dy, int height) {  // px
         const render::Camera c = camera();
@@ -82,8 +85,8 @@ struct Orbit {
                                               static_cast<float>(height);
         target += metres_per_px * (-dx * right + dy * up);
     }
-    void zoom(float steps) {  // wheel clicks, + is closer
-        const float f = std::pow(0.88f, steps);
+    void zoom(float steps) {                     // wheel clicks, + is closer
+        const float f = std::pow(0.88f, steps);  // 12% closer per wheel click
         distance = std::clamp(distance * f, 0.05f, 500.0f);
         ortho_height = std::clamp(ortho_height * f, 0.05f, 500.0f);
     }
@@ -117,7 +120,7 @@ struct Pick {
 };
 
 // The nearest particle or body part the ray passes within reach of (its
-// radius, at least `slack` m): particles that move, and rigid bodies.
+// 1.5 radii, at least 6 cm): particles that move, and rigid bodies.
 std::optional<Pick> pick(const SceneRun& run, const Ray& ray) {
     std::optional<Pick> best;
     auto consider = [&](const Eigen::Vector3d& centre, double reach, sim::Drag::Kind kind, std::uint32_t index) {
@@ -159,10 +162,18 @@ std::optional<Pick> pick(const SceneRun& run, const Ray& ray) {
 
 // --- 3. the viewer ---------------------------------------------------------------
 
+// The shortest text that reads back as this float: a slider at 0.3 sets
+// 0.3, not the double nearest 0.3f (0.30000001192092896).
+std::string shortest(float value) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+    return std::string(text, end);
+}
+
 // A rolling series for a live plot.
 struct Series {
     std::deque<float> values;
-    void push(float v, std::size_t keep = 300) {
+    void push(float v, std::size_t keep = 300) {  // frames shown: 5 s at 60 Hz
         values.push_back(v);
         while (values.size() > keep) values.pop_front();
     }
@@ -176,7 +187,7 @@ public:
           options_(options),
           def_(std::make_unique<SceneDef>(scene)),
           run_(std::make_unique<SceneRun>(*def_)),
-          parameters_(scene_parameters(scene)),
+          parameters_(scene_parameters(scene, overrides_)),
           orbit_(scene.camera),
           paused_(options.paused),
           panel_(options.panel) {
@@ -277,7 +288,7 @@ public:
                 const double t = (on_plane - ray.origin).dot(forward) / denom;
                 if (t > 0) grab_.drag.target = ray.origin + t * ray.direction;
             }
-            run_->world_for_edit().set_drag(grab_.drag);
+            reapply_drag();
         }
     }
 
@@ -287,6 +298,9 @@ public:
     // factor), in whole scene steps; or exactly one step per frame when
     // scripted (exit_after), so that frame N is the scene's frame N.
     void update(double wall_dt) {
+        // A screenshot asked for shows the frame it was asked at (P then Space
+        // in one poll still saves the paused frame).
+        if (screenshot_now) return;
         if (paused_ || run_->verdict().exploded()) {
             accumulator_ = 0.0;
             return;
@@ -313,8 +327,8 @@ public:
             const render::Look look{render::Color{0.95f, 0.55f, 0.05f, 1}};
             const Eigen::Vector3d from = grabbed_point();
             list.cylinders.push_back(
-                render::Cylinder{from.cast<float>(), grab_.drag.target.cast<float>(), 0.012f, look});
-            list.spheres.push_back(render::Sphere{grab_.drag.target.cast<float>(), 0.03f, look});
+                render::Cylinder{from.cast<float>(), grab_.drag.target.cast<float>(), 0.012f, look});  // 12 mm thick
+            list.spheres.push_back(render::Sphere{grab_.drag.target.cast<float>(), 0.03f, look});      // 3 cm knob
         }
         return list;
     }
@@ -334,6 +348,13 @@ public:
 
     void panel_ui();
 
+    // What went wrong in an input callback (they must not throw into GLFW):
+    // printed, and shown in the panel.
+    void report(const std::string& message) {
+        std::fprintf(stderr, "view: %s\n", message.c_str());
+        error_ = message;
+    }
+
 private:
     enum class Mode { none, orbit, pan, drag };
 
@@ -341,11 +362,12 @@ private:
         if (pause) paused_ = true;
         if (run_->verdict().exploded()) return;
         history_.push_back(run_->snapshot());
-        history_bytes_ += snapshot_bytes();
-        // Keep at most 3600 frames and about 256 MB of history: the oldest go first.
+        history_bytes_ += history_.back().bytes();
+        // Keep at most 3600 frames (a minute at 60 Hz) and about 256 MB of
+        // history (trails included): the oldest go first.
         while (!history_.empty() && (history_.size() > 3600 || history_bytes_ > (256u << 20))) {
+            history_bytes_ -= history_.front().bytes();
             history_.pop_front();
-            history_bytes_ -= snapshot_bytes();
         }
         run_->advance();
     }
@@ -354,15 +376,9 @@ private:
         paused_ = true;
         if (history_.empty()) return;
         run_->restore(history_.back());
+        history_bytes_ -= history_.back().bytes();
         history_.pop_back();
-        history_bytes_ -= snapshot_bytes();
         reapply_drag();
-    }
-
-    std::size_t snapshot_bytes() const {
-        const std::size_t n = run_->world().state().size();
-        const std::size_t bodies = run_->world().rigid() ? run_->world().rigid()->body_count() : 0;
-        return 200 + n * 5 * 3 * sizeof(double) + bodies * sizeof(sim::BodyState);
     }
 
     // Back to frame 0 with the live step settings (and the description as it is).
@@ -374,8 +390,8 @@ private:
         std::vector<Override> with = overrides_;
         for (std::size_t k = 0; k < parameters_.size(); ++k) {
             if (static_cast<float>(parameters_[k].value) == edited_[k]) continue;
-            with.push_back({parameters_[k].key, parameters_[k].integer ? std::to_string(std::lround(edited_[k]))
-                                                                       : sim::format_value(edited_[k])});
+            with.push_back({parameters_[k].key,
+                            parameters_[k].integer ? std::to_string(std::lround(edited_[k])) : shortest(edited_[k])});
         }
         try {
             auto def = std::make_unique<SceneDef>(load_scene(def_->file, with));
@@ -421,8 +437,15 @@ private:
         grabbing_ = false;
         if (run_) run_->world_for_edit().set_drag(std::nullopt);
     }
+    // The grab again after a step back; let go when the world refuses it now
+    // (a droplet not yet born at that time, a particle the watchdog froze).
     void reapply_drag() {
-        if (grabbing_) run_->world_for_edit().set_drag(grab_.drag);
+        if (!grabbing_) return;
+        try {
+            run_->world_for_edit().set_drag(grab_.drag);
+        } catch (const sim::InputError&) {
+            release();
+        }
     }
 
     std::string grabbed_name() const {
@@ -509,12 +532,19 @@ void Viewer::panel_ui() {
             ImGui::EndCombo();
         }
         auto dt_ms = static_cast<float>(1e3 * step.dt);
-        if (ImGui::SliderFloat("dt (ms)", &dt_ms, 0.1f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic)) {
+        constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;  // typed values too
+        if (ImGui::SliderFloat("dt (ms)", &dt_ms, 0.1f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp)) {
             step.dt = 1e-3 * dt_ms;
             changed = true;
         }
-        if (ImGui::SliderInt("substeps", &step.substeps, 1, 64)) changed = true;
-        if (changed) run_->set_step(step);
+        if (ImGui::SliderInt("substeps", &step.substeps, 1, 64, "%d", kClamp)) changed = true;
+        if (changed) {
+            try {
+                run_->set_step(step);
+            } catch (const sim::InputError& e) {
+                error_ = e.what();
+            }
+        }
     }
     if (ImGui::CollapsingHeader("Overlays")) {
         // Drawing only: the run goes on as it was.
@@ -583,35 +613,55 @@ void framebuffer_size(GLFWwindow* window, int& width, int& height) {
     height = std::max(height, 16);
 }
 
+// Runs an input handler; what it throws is reported, never unwound through
+// GLFW's C frames (that would end the program).
+template <class F>
+void guarded(GLFWwindow* window, F&& handle) {
+    try {
+        handle(*viewer_of(window));
+    } catch (const std::exception& e) {
+        viewer_of(window)->report(e.what());
+    }
+}
+
+// The panel takes the mouse only where it is drawn (ImGui's flags are from the
+// last frame it drew).
+bool panel_has_mouse(GLFWwindow* window) { return viewer_of(window)->panel() && ImGui::GetIO().WantCaptureMouse; }
+
+// Cursor positions are in screen units; the picture is in framebuffer pixels.
+void cursor_in_pixels(GLFWwindow* window, double& x, double& y, int& w, int& h) {
+    int ww = 0, wh = 0;
+    framebuffer_size(window, w, h);
+    glfwGetWindowSize(window, &ww, &wh);
+    x *= ww > 0 ? static_cast<double>(w) / ww : 1.0;
+    y *= wh > 0 ? static_cast<double>(h) / wh : 1.0;
+}
+
 void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
     // Shortcuts work while the panel has focus, except when it is taking typed text.
-    if (action == GLFW_RELEASE || ImGui::GetIO().WantTextInput) return;
-    viewer_of(window)->key(key);
+    if (action == GLFW_RELEASE || (viewer_of(window)->panel() && ImGui::GetIO().WantTextInput)) return;
+    guarded(window, [&](Viewer& v) { v.key(key); });
 }
 
 void on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
-    if (action == GLFW_PRESS && ImGui::GetIO().WantCaptureMouse) return;
+    if (action == GLFW_PRESS && panel_has_mouse(window)) return;
     double x = 0, y = 0;
+    int w = 0, h = 0;
     glfwGetCursorPos(window, &x, &y);
-    int w = 0, h = 0, ww = 0, wh = 0;
-    framebuffer_size(window, w, h);
-    glfwGetWindowSize(window, &ww, &wh);
-    // Cursor positions are in screen units; the picture is in framebuffer pixels.
-    const double sx = ww > 0 ? static_cast<double>(w) / ww : 1.0, sy = wh > 0 ? static_cast<double>(h) / wh : 1.0;
-    viewer_of(window)->mouse_button(button, action == GLFW_PRESS, x * sx, y * sy, w, h, (mods & GLFW_MOD_SHIFT) != 0);
+    cursor_in_pixels(window, x, y, w, h);
+    guarded(window,
+            [&](Viewer& v) { v.mouse_button(button, action == GLFW_PRESS, x, y, w, h, (mods & GLFW_MOD_SHIFT) != 0); });
 }
 
 void on_cursor(GLFWwindow* window, double x, double y) {
-    int w = 0, h = 0, ww = 0, wh = 0;
-    framebuffer_size(window, w, h);
-    glfwGetWindowSize(window, &ww, &wh);
-    const double sx = ww > 0 ? static_cast<double>(w) / ww : 1.0, sy = wh > 0 ? static_cast<double>(h) / wh : 1.0;
-    viewer_of(window)->mouse_move(x * sx, y * sy, w, h);
+    int w = 0, h = 0;
+    cursor_in_pixels(window, x, y, w, h);
+    guarded(window, [&](Viewer& v) { v.mouse_move(x, y, w, h); });
 }
 
 void on_scroll(GLFWwindow* window, double /*dx*/, double dy) {
-    if (ImGui::GetIO().WantCaptureMouse) return;
-    viewer_of(window)->scroll(dy);
+    if (panel_has_mouse(window)) return;
+    guarded(window, [&](Viewer& v) { v.scroll(dy); });
 }
 
 void validate(const ViewOptions& o) {
@@ -621,6 +671,10 @@ void validate(const ViewOptions& o) {
     }
     if (o.exit_after < 0)
         throw sim::InputError("view: --exit-after must be >= 0 (got " + std::to_string(o.exit_after) + ")");
+    if (o.msaa_samples != 0 && o.msaa_samples != 1 && o.msaa_samples != 2 && o.msaa_samples != 4 &&
+        o.msaa_samples != 8) {
+        throw sim::InputError("view: --msaa must be 0, 1, 2, 4 or 8 (got " + std::to_string(o.msaa_samples) + ")");
+    }
     if (!o.screenshot.empty() && o.screenshot.extension() != ".png") {
         throw sim::InputError("view: --screenshot must end in .png (got '" + o.screenshot.string() + "')");
     }
@@ -692,18 +746,22 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         }
         viewer.record_times(render_ms);
-        if ((done && !options.screenshot.empty()) || viewer.screenshot_now) {
-            // On exit: --screenshot; P: beside it (or here), named by scene and frame.
-            const std::string name = "view-" + scene.name + "-" + std::to_string(viewer.run().frame()) + ".png";
+        if (viewer.screenshot_now) {
+            // P: beside --screenshot (or here), named by scene and frame; a failed
+            // write is reported and the session goes on.
             const std::filesystem::path file =
-                done ? options.screenshot : options.screenshot.parent_path() / name;  // an empty parent: here
-            render::write_png(file, renderer.read_window());
-            if (!done) {
+                options.screenshot.parent_path() /
+                ("view-" + scene.name + "-" + std::to_string(viewer.run().frame()) + ".png");
+            try {
+                render::write_png(file, renderer.read_window());
                 std::printf("view: screenshot %s\n", file.string().c_str());
                 std::fflush(stdout);
+            } catch (const std::exception& e) {
+                viewer.report(e.what());
             }
             viewer.screenshot_now = false;
         }
+        if (done && !options.screenshot.empty()) render::write_png(options.screenshot, renderer.read_window());
         context->swap_buffers();
         if (done) break;
     }

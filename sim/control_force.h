@@ -2,7 +2,7 @@
 // forward, a forward force is applied to the avatar, no physical reason
 // asked): a scripted time table. Each key pushes its particles with a
 // constant force during [start, end). Driven, not conservative: no potential.
-// The viewer's mouse drag will use the same hook.
+// The viewer's mouse drag is the interactive kind: World::set_drag.
 #pragma once
 
 #include "sim/force.h"

@@ -101,14 +101,26 @@ void World::set_drag(const std::optional<Drag>& drag) {
 void World::apply_drag(double h) {
     const Drag& d = *drag_;
     const double w = 2.0 * std::numbers::pi * d.frequency;  // rad/s
+    // The spring's stretch saturates at kMaxStretch: a flick across the room
+    // pulls as hard as a 1 m one, so the speed it gives stays near w · 1 m.
+    constexpr double kMaxStretch = 1.0;  // m
+    auto saturated = [](Vec3 pull) {
+        return pull.norm() > kMaxStretch ? Vec3(pull * (kMaxStretch / pull.norm())) : pull;
+    };
     if (d.kind == Drag::Kind::particle) {
+        // A particle the watchdog froze (contained) since it was grabbed: let go.
+        if (state_.inv_mass[d.index] == 0.0) return;
         // x'' = w² (target - x) - 2 ζ w x' per unit mass, backward Euler over
         // the substep: v1 (1 + 2ζw h + w² h²) = v0 + w² h (target - x0). The
         // velocity change is the spring's impulse; the integrator adds the rest.
         const Vec3 x = state_.x.get(d.index), v = state_.v.get(d.index);
-        const Vec3 v1 = (v + w * w * h * (d.target - x)) / (1.0 + 2.0 * d.damping_ratio * w * h + w * w * h * h);
+        const Vec3 v1 =
+            (v + w * w * h * saturated(d.target - x)) / (1.0 + 2.0 * d.damping_ratio * w * h + w * w * h * h);
         state_.v.set(d.index, v1);
         memory_valid_ = false;
+        // The work the mouse did (the impulse's kinetic energy) moves the
+        // watchdog's E0 with it: energy put in by hand is not an explosion.
+        initial_energy_ += 0.5 * state_.mass[d.index] * (v1.squaredNorm() - v.squaredNorm());
         return;
     }
     // A body: the same spring, explicit, on the grabbed point, with the
@@ -118,10 +130,11 @@ void World::apply_drag(double h) {
     const Vec3 point = b.position + b.orientation * d.anchor;
     const Vec3 point_velocity = b.velocity + b.angular_velocity.cross(point - b.position);
     const double m = rigid_->mass(id);
-    Vec3 force = m * (w * w * (d.target - point) - 2.0 * d.damping_ratio * w * point_velocity);
+    Vec3 force = m * (w * w * saturated(d.target - point) - 2.0 * d.damping_ratio * w * point_velocity);
     const double cap = 30.0 * 9.81 * m;  // N
     if (force.norm() > cap) force *= cap / force.norm();
     rigid_->add_force_at(id, force, point);
+    initial_energy_ += force.dot(point_velocity) * h;  // J, the force's work over the substep (E0 follows it)
 }
 
 World::Snapshot World::snapshot() const {
@@ -206,8 +219,6 @@ void World::step(const StepSettings& settings) {
                 rigid_->step(h);
             });
         }
-        // Energy the mouse put in is not an explosion: the watchdog's E0 follows it up.
-        if (drag_) initial_energy_ = std::max(initial_energy_, energy());
         if (watchdog_.enabled) timed(times_.watchdog, [&] { watch(); });
     }
 }

@@ -113,9 +113,11 @@ public:
 
     // Grabs (or with nullopt lets go of) a particle or a body. On a particle
     // the spring and its damping act implicitly at the start of each substep
-    // (stable at any frequency and dt), on a body explicitly at its point.
-    // InputError for a pinned or unknown particle, an unknown body, or bad
-    // numbers.
+    // (stable at any frequency and dt), on a body explicitly at its point; the
+    // stretch saturates at 1 m. The work the drag does is added to the
+    // watchdog's E0 (energy put in by hand is not an explosion; a blow-up
+    // elsewhere still is). InputError for a pinned or unknown particle, an
+    // unknown body, or bad numbers.
     void set_drag(const std::optional<Drag>& drag);
     const std::optional<Drag>& drag() const { return drag_; }
 

@@ -153,13 +153,13 @@ TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
 for k in 1 2 3 4 5; do xdotool key Right; sleep 0.05; done
 xdotool key Left; sleep 0.05; xdotool key Left; sleep 0.05
 xdotool key p; sleep 0.3
-xdotool key space; sleep 0.5; xdotool key space; sleep 0.1
+xdotool key space; sleep 1.0; xdotool key space; sleep 0.1
 xdotool key Right; sleep 0.1
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     expect_same_picture(dir_ / "view-pendulum-3.png", reference("pendulum", 3, 480, 270).image);
     const int last = std::stoi(field(r.out, "frame").empty() ? "0" : field(r.out, "frame"));
-    EXPECT_GT(last, 4) << "Space resumed for 0.5 s and Right stepped once more: " << r.out;
+    EXPECT_GT(last, 4) << "Space resumed for 1 s and Right stepped once more: " << r.out;
     const Reference ref = reference("pendulum", last, 480, 270);
     EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
     expect_same_picture(dir_ / "last.png", ref.image);
@@ -203,14 +203,20 @@ xdotool mousemove --window "$win" 980 498; sleep 0.2
 xdotool keydown ctrl; sleep 0.1; xdotool click 1; sleep 0.1; xdotool keyup ctrl; sleep 0.3
 xdotool key ctrl+a; sleep 0.1; xdotool type "0.3"; sleep 0.1
 xdotool keydown Return; sleep 0.15; xdotool keyup Return; sleep 0.5
-for k in $(seq 20); do xdotool key Right; sleep 0.02; done
+for k in $(seq 60); do xdotool key Right; sleep 0.02; done
 )");
     ASSERT_EQ(r.status, 0) << r.out;
-    const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("cloth"), {{"colliders[0].radius", "0.3"}});
-    scenes::SceneRun run(scene);
-    for (int k = 0; k < 20; ++k) run.advance();
-    EXPECT_EQ(field(r.out, "frame"), "20") << r.out;
-    EXPECT_EQ(field(r.out, "state"), run.state_hash_hex()) << "not the cloth over a 0.3 m ball: " << r.out;
+    // After 1 s the cloth lies on the ball, so the ball's size is in the bits.
+    auto hash_after_60 = [](const std::vector<scenes::Override>& overrides) {
+        const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("cloth"), overrides);
+        scenes::SceneRun run(scene);
+        for (int k = 0; k < 60; ++k) run.advance();
+        return run.state_hash_hex();
+    };
+    EXPECT_EQ(field(r.out, "frame"), "60") << r.out;
+    EXPECT_EQ(field(r.out, "state"), hash_after_60({{"colliders[0].radius", "0.3"}}))
+        << "not the cloth over a 0.3 m ball: " << r.out;
+    EXPECT_NE(field(r.out, "state"), hash_after_60({})) << "the slider changed nothing: " << r.out;
 }
 
 // Left-drag on the pendulum's bob: the mouse spring grabs it and pulls it

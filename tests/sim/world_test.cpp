@@ -321,6 +321,31 @@ TEST(NetForces, AreTheGeneratorsSumAtTheCurrentState) {
     EXPECT_DOUBLE_EQ(world.force_evaluations(), 0.0) << "drawing is not a force evaluation";
 }
 
+// A hard pull far away is energy put in by hand, not an explosion: the
+// watchdog's E0 follows the drag's work; the stretch saturates at 1 m, so the
+// speed stays about ω · 1 m (19 m/s at 3 Hz), not ω · 20 m.
+TEST(Drag, AFarPullIsNotAnExplosionAndItsSpeedIsBounded) {
+    ParticleModel model;
+    model.particles.push_back(ParticleDef{Vec3(0, 1, 0), Vec3::Zero(), 1.0, false});
+    model.forces.push_back(UniformGravity{Vec3(0, -9.81, 0)});
+    World world(model);
+    WatchdogLimits limits;
+    limits.energy_growth = 1.1;  // the energy rule on: 10% over E0 is an explosion
+    world.set_watchdog(limits);
+    Drag drag;
+    drag.target = Vec3(20, 1, 0);
+    world.set_drag(drag);
+    double fastest = 0.0;  // m/s
+    for (int i = 0; i < 240; ++i) {
+        world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+        fastest = std::max(fastest, world.state().v.get(0).norm());
+    }
+    EXPECT_FALSE(world.verdict().exploded()) << world.verdict().message("drag");
+    EXPECT_LT(fastest, 2.0 * std::numbers::pi * drag.frequency * 1.0) << "m/s";
+    EXPECT_LT((world.state().x.get(0) - drag.target).norm(), 0.1)
+        << "m: it got there in 4 s (the sag at 1/60 s is 4 cm, see above)";
+}
+
 TEST(Drag, RefusesWhatCannotBeGrabbed) {
     ParticleModel model;
     model.particles.push_back(ParticleDef{Vec3::Zero(), Vec3::Zero(), 1.0, true});
