@@ -447,7 +447,9 @@ int main(int argc, char** argv) {
     view_cmd->add_option("scene", view_scene.scene, "Scene name or .toml path")->required();
     view_scene.add_to(view_cmd, true);
     view_cmd->add_option("--size", view_size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
-    view_cmd->add_option("--msaa", view_options.msaa_samples, "MSAA samples (0 off, as the goldens)")
+    view_cmd
+        ->add_option("--msaa", view_options.msaa_samples,
+                     "MSAA samples, 0 (off, as the goldens) .. 8; -1: 4 when still, off while running")
         ->capture_default_str();
     view_cmd->add_flag("!--no-panel", view_options.panel, "Hide the control panel (H shows it)");
     view_cmd->add_flag("--paused", view_options.paused, "Start paused (Space resumes, Right steps)");

@@ -199,6 +199,7 @@ public:
     bool screenshot_now = false;
 
     const SceneRun& run() const { return *run_; }
+    bool running() const { return !paused_ && !run_->verdict().exploded(); }
     bool panel() const { return panel_; }
 
     void key(int key) {
@@ -671,9 +672,11 @@ void validate(const ViewOptions& o) {
     }
     if (o.exit_after < 0)
         throw sim::InputError("view: --exit-after must be >= 0 (got " + std::to_string(o.exit_after) + ")");
-    if (o.msaa_samples != 0 && o.msaa_samples != 1 && o.msaa_samples != 2 && o.msaa_samples != 4 &&
-        o.msaa_samples != 8) {
-        throw sim::InputError("view: --msaa must be 0, 1, 2, 4 or 8 (got " + std::to_string(o.msaa_samples) + ")");
+    if (o.msaa_samples != -1 && o.msaa_samples != 0 && o.msaa_samples != 1 && o.msaa_samples != 2 &&
+        o.msaa_samples != 4 && o.msaa_samples != 8) {
+        throw sim::InputError(
+            "view: --msaa must be 0, 1, 2, 4 or 8, or -1 for 4 when still and off while running (got " +
+            std::to_string(o.msaa_samples) + ")");
     }
     if (!o.screenshot.empty() && o.screenshot.extension() != ".png") {
         throw sim::InputError("view: --screenshot must end in .png (got '" + o.screenshot.string() + "')");
@@ -732,9 +735,11 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
 
         int width = 0, height = 0;
         framebuffer_size(window, width, height);
+        const int msaa = options.msaa_samples >= 0                     ? options.msaa_samples
+                         : viewer.running() && options.exit_after == 0 ? 0
+                                                                       : 4;
         const auto r0 = Clock::now();
-        renderer.draw(viewer.draw_list(width, height),
-                      {.width = width, .height = height, .msaa_samples = options.msaa_samples});
+        renderer.draw(viewer.draw_list(width, height), {.width = width, .height = height, .msaa_samples = msaa});
         renderer.blit_to_window();
         const double render_ms = 1e3 * std::chrono::duration<double>(Clock::now() - r0).count();
         if (viewer.panel()) {
