@@ -608,10 +608,13 @@ void Viewer::panel_ui() {
 // backend installs its own first and chains to these.
 Viewer* viewer_of(GLFWwindow* window) { return static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
 
+// The window's framebuffer in pixels, within what the renderer draws (16 ..
+// 8192 px a side; a HiDPI window can be larger, and then shows the picture
+// in its top-left corner instead of failing).
 void framebuffer_size(GLFWwindow* window, int& width, int& height) {
     glfwGetFramebufferSize(window, &width, &height);
-    width = std::max(width, 16);
-    height = std::max(height, 16);
+    width = std::clamp(width, 16, 8192);
+    height = std::clamp(height, 16, 8192);
 }
 
 // Runs an input handler; what it throws is reported, never unwound through
