@@ -610,7 +610,7 @@ Viewer* viewer_of(GLFWwindow* window) { return static_cast<Viewer*>(glfwGetWindo
 
 // The window's framebuffer in pixels, within what the renderer draws (16 ..
 // 8192 px a side; a HiDPI window can be larger, and then shows the picture
-// in its top-left corner instead of failing).
+// in its bottom-left corner instead of failing).
 void framebuffer_size(GLFWwindow* window, int& width, int& height) {
     glfwGetFramebufferSize(window, &width, &height);
     width = std::clamp(width, 16, 8192);
