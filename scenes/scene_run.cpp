@@ -230,24 +230,19 @@ render::DrawList SceneRun::draw_list(int width, int height) const {
     for (std::size_t i = 0; i < s.size(); ++i) {
         const ParticleLook& look = scene_.looks[i];
         if (!look.visible || unborn[i]) continue;
-        if (s.inv_mass[i] != 0.0 && scene_.view.force_arrows > 0) {
-            const sim::Vec3 f = forces.get(i) * scene_.view.force_arrows;
-            if (f.norm() > look.radius) {
-                list.arrows.push_back(render::Arrow{
-                    to_render(s.x.get(i)), to_render(f), 0.2f * static_cast<float>(look.radius),
-                    0.45f * static_cast<float>(look.radius), render::Look{render::Color{0.85f, 0.2f, 0.15f, 1}}});
-            }
-        }
         list.spheres.push_back(
             render::Sphere{to_render(s.x.get(i)), static_cast<float>(look.radius), render::Look{look.color}});
-        if (s.inv_mass[i] != 0.0 && scene_.view.velocity_arrows > 0) {
-            const sim::Vec3 v = s.v.get(i) * scene_.view.velocity_arrows;
-            if (v.norm() > look.radius) {
-                list.arrows.push_back(render::Arrow{
-                    to_render(s.x.get(i)), to_render(v), 0.2f * static_cast<float>(look.radius),
-                    0.45f * static_cast<float>(look.radius), render::Look{render::Color{0.15f, 0.6f, 0.25f, 1}}});
-            }
-        }
+        // Arrows from a moving particle, scaled to metres; none shorter than its radius.
+        auto arrow = [&](const sim::Vec3& along, render::Color color) {
+            if (s.inv_mass[i] == 0.0 || along.norm() <= look.radius) return;
+            list.arrows.push_back(render::Arrow{to_render(s.x.get(i)), to_render(along),
+                                                0.2f * static_cast<float>(look.radius),
+                                                0.45f * static_cast<float>(look.radius), render::Look{color}});
+        };
+        if (scene_.view.velocity_arrows > 0)
+            arrow(s.v.get(i) * scene_.view.velocity_arrows, render::Color{0.15f, 0.6f, 0.25f, 1});
+        if (scene_.view.force_arrows > 0)
+            arrow(forces.get(i) * scene_.view.force_arrows, render::Color{0.85f, 0.2f, 0.15f, 1});
         const auto& trail = trails_[i];
         if (trail.size() >= 2) {
             render::Ribbon ribbon;

@@ -204,7 +204,13 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     // The description as a caption for the first seconds, unless a compare
     // grid's free cell shows it already.
     const bool caption = options.caption && !scene.description.empty() && cols * rows == n;
-    const double caption_seconds = std::min(4.0, 0.4 * seconds);  // s of video
+    const double caption_seconds = std::min(4.0, 0.4 * seconds);             // s of video
+    const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
+    std::string caption_text;  // the description wrapped to the tile, once
+    for (const std::string& line : wrap(scene.description, 0.9f * static_cast<float>(tile_w), 0.8f * text))
+        caption_text += (caption_text.empty() ? "" : "\n") + line;
+    const float caption_height =  // px, 1.25 lines of 0.8 text each
+        0.8f * text * 1.25f * static_cast<float>(std::count(caption_text.begin(), caption_text.end(), '\n') + 1);
 
     const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
     const std::string tag = ".tmp-" + std::to_string(getpid());
@@ -235,7 +241,6 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
             share_plot_ranges(lists);
             for (int i = 0; i < n; ++i) {
                 render::DrawList& list = lists[static_cast<std::size_t>(i)];
-                const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
                 const bool labelled = !options.compare.empty() &&
                                       options.compare[static_cast<std::size_t>(i)].find('=') != std::string::npos;
                 if (labelled) {
@@ -247,16 +252,11 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
                 }
                 if (caption && t < caption_seconds) {
                     // The first seconds say what the scene shows, across the bottom.
-                    std::string lines;
-                    for (const std::string& line :
-                         wrap(scene.description, 0.9f * static_cast<float>(tile_w), 0.8f * text))
-                        lines += (lines.empty() ? "" : "\n") + line;
-                    const float height =
-                        0.8f * text * 1.25f * static_cast<float>(std::count(lines.begin(), lines.end(), '\n') + 1);
-                    list.texts.push_back(render::Text{lines,
-                                                      render::Vec2(0.5f * text, static_cast<float>(tile_h) - height -
-                                                                                    (labelled ? 2.2f : 0.8f) * text),
-                                                      0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+                    list.texts.push_back(render::Text{
+                        caption_text,
+                        render::Vec2(0.5f * text,
+                                     static_cast<float>(tile_h) - caption_height - (labelled ? 2.2f : 0.8f) * text),
+                        0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
                 }
                 const render::Image tile =
                     renderer.render(list, {.width = tile_w, .height = tile_h, .msaa_samples = 4});
