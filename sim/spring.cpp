@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <utility>
 
 namespace sim {
 
@@ -121,30 +123,121 @@ void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f) {
     }
 }
 
-SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
-    SpringPlan plan;
+namespace {
+
+// Shorter runs of springs, and of particles with one pattern, cost more in
+// per-run overhead than their contiguous loads save: they go the gathered way.
+constexpr std::uint32_t kMinRun = 8;
+
+// Each particle's ends in list order (the order the reference loop adds them
+// in), as places in pass 1's order.
+void plan_ends(const Springs& springs, const std::vector<std::uint32_t>& place, std::size_t particle_count,
+               SpringPlan& plan) {
     const std::size_t m = springs.list.size();
-    plan.i.resize(m);
-    plan.j.resize(m);
     plan.first.assign(particle_count + 1, 0);
-    for (std::size_t s = 0; s < m; ++s) {
-        plan.i[s] = springs.list[s].i;
-        plan.j[s] = springs.list[s].j;
-        if (plan.i[s] >= particle_count || plan.j[s] >= particle_count) return {};  // not for this system
-        plan.zero_rest = plan.zero_rest || springs.list[s].rest == 0.0;
-        ++plan.first[plan.i[s] + 1];
-        ++plan.first[plan.j[s] + 1];
+    for (const Spring& s : springs.list) {
+        ++plan.first[s.i + 1];
+        ++plan.first[s.j + 1];
     }
     for (std::size_t p = 0; p < particle_count; ++p) plan.first[p + 1] += plan.first[p];
-    // Each particle's ends in list order: the order the reference loop adds them in.
     plan.spring.resize(2 * m);
     plan.sign.resize(2 * m);
     std::vector<std::uint32_t> next(plan.first.begin(), plan.first.end() - 1);
     for (std::size_t s = 0; s < m; ++s) {
-        const std::uint32_t a = next[plan.i[s]]++, b = next[plan.j[s]]++;
-        plan.spring[a] = plan.spring[b] = static_cast<std::uint32_t>(s);
+        const std::uint32_t a = next[springs.list[s].i]++, b = next[springs.list[s].j]++;
+        plan.spring[a] = plan.spring[b] = place[s];
         plan.sign[a] = 1.0;
         plan.sign[b] = -1.0;
+    }
+}
+
+// Particles p and p + d (d > 0) have the same pattern of ends, shifted by d.
+bool same_pattern(const SpringPlan& plan, std::uint32_t p, std::uint32_t d) {
+    const std::uint32_t a = plan.first[p], b = plan.first[p + d];
+    const std::uint32_t degree = plan.first[p + 1] - a;
+    if (plan.first[p + d + 1] - b != degree) return false;
+    for (std::uint32_t e = 0; e < degree; ++e) {
+        if (plan.sign[a + e] != plan.sign[b + e] || plan.spring[b + e] != plan.spring[a + e] + d) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+bool wide_spring_pass_available() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
+    SpringPlan plan;
+    const std::size_t m = springs.list.size();
+    for (const Spring& s : springs.list) {
+        if (s.i >= particle_count || s.j >= particle_count) return {};  // not for this system
+        plan.zero_rest = plan.zero_rest || s.rest == 0.0;
+    }
+    plan.springs = m;
+    plan.wide = wide_spring_pass_available();
+
+    // Pass 1's order: by (j - i, i), then cut into runs where i and j both
+    // advance by one; springs of short runs go to the end.
+    std::vector<std::uint32_t> sorted(m);
+    for (std::uint32_t s = 0; s < m; ++s) sorted[s] = s;
+    auto key = [&](std::uint32_t s) {
+        const Spring& sp = springs.list[s];
+        return std::pair<std::int64_t, std::uint32_t>(std::int64_t{sp.j} - std::int64_t{sp.i}, sp.i);
+    };
+    std::stable_sort(sorted.begin(), sorted.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
+    std::vector<std::uint32_t> loose;
+    for (std::size_t a = 0; a < m;) {
+        std::size_t b = a + 1;
+        while (b < m && springs.list[sorted[b]].i == springs.list[sorted[b - 1]].i + 1 &&
+               springs.list[sorted[b]].j == springs.list[sorted[b - 1]].j + 1) {
+            ++b;
+        }
+        if (b - a >= kMinRun) {
+            const Spring& s = springs.list[sorted[a]];
+            plan.runs.push_back(
+                {static_cast<std::uint32_t>(plan.order.size()), static_cast<std::uint32_t>(b - a), s.i, s.j});
+            plan.order.insert(plan.order.end(), sorted.begin() + a, sorted.begin() + b);
+        } else {
+            loose.insert(loose.end(), sorted.begin() + a, sorted.begin() + b);
+        }
+        a = b;
+    }
+    plan.loose = static_cast<std::uint32_t>(plan.order.size());
+    plan.order.insert(plan.order.end(), loose.begin(), loose.end());
+    std::vector<std::uint32_t> place(m);
+    for (std::uint32_t q = 0; q < m; ++q) place[plan.order[q]] = q;
+    for (const std::uint32_t s : plan.order) {
+        plan.k.push_back(springs.list[s].k);
+        plan.c.push_back(springs.list[s].c);
+        plan.rest.push_back(springs.list[s].rest);
+    }
+    for (const std::uint32_t s : loose) {
+        plan.li.push_back(springs.list[s].i);
+        plan.lj.push_back(springs.list[s].j);
+    }
+
+    // Pass 2: blocks of particles with one pattern, the rest one by one.
+    plan_ends(springs, place, particle_count, plan);
+    for (std::uint32_t p = 0; p < particle_count;) {
+        std::uint32_t count = 1;
+        while (p + count < particle_count && same_pattern(plan, p, count)) ++count;
+        const std::uint32_t degree = plan.first[p + 1] - plan.first[p];
+        if (count >= kMinRun && degree > 0) {
+            plan.blocks.push_back({p, count, degree, static_cast<std::uint32_t>(plan.base.size())});
+            for (std::uint32_t e = plan.first[p]; e < plan.first[p + 1]; ++e) {
+                plan.base.push_back(plan.spring[e]);
+                plan.base_sign.push_back(plan.sign[e]);
+            }
+        } else {
+            for (std::uint32_t r = p; r < p + count; ++r) plan.singles.push_back(r);
+        }
+        p += count;
     }
     plan.gx.resize(m);
     plan.gy.resize(m);
@@ -154,72 +247,155 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
 
 namespace {
 
-// Pass 1 of the fast accumulate: the force on each spring's first particle,
-// spring_force's operations in its order (so its bits),
-//   d = x_j - x_i,  n = d / |d|,  g = (k (|d| - ℓ) + c (v_j - v_i) · n) n.
-// Nothing here writes to a particle, so the compiler vectorises it: two
-// springs per SSE register, the particles' coordinates loaded through the
-// index arrays. Divisions and square roots are correctly rounded whether
-// packed or not, and with -ffp-contract=off no multiply-add is fused: the
-// same bits as one spring at a time. Plain pointers only (through a struct
-// GCC gives up vectorising). Returns the number of springs of length 0.
-std::size_t spring_forces(const Spring* __restrict list, const std::uint32_t* __restrict si,
-                          const std::uint32_t* __restrict sj, std::size_t m, const double* __restrict x,
-                          const double* __restrict y, const double* __restrict z, const double* __restrict vx,
-                          const double* __restrict vy, const double* __restrict vz, double* __restrict gx,
-                          double* __restrict gy, double* __restrict gz) {
-    std::size_t zero_length = 0;  // a count: a bool here stops the vectoriser
-    for (std::size_t s = 0; s < m; ++s) {
-        const std::uint32_t i = si[s], j = sj[s];
+// The kernels of the fast pass, each compiled twice: for the pinned
+// instruction set (x86-64-v2, SSE: two doubles a register) and, called only
+// where the CPU has it, for AVX2 (four). Square roots, divisions, products
+// and sums are correctly rounded at any width, and -ffp-contract=off forbids
+// fusing a multiply-add (AVX2 machines have FMA): both builds give the
+// reference loop's bits (tests/sim/forces_test.cpp runs both). Plain
+// pointers only (through a struct GCC gives up vectorising).
+//
+// Pass 1: the force on each spring's first particle, spring_force's
+// operations in its order,
+//   d = x_j - x_i,  n = d / |d|,  g = (k (|d| - ℓ) + c (v_j - v_i) · n) n,
+// for `count` springs whose parameters and outputs are contiguous. In a run
+// (kRun) spring t joins particles i0 + t and j0 + t, so the particles load
+// as contiguous vectors; otherwise through the index arrays si, sj. Returns
+// the number of springs of length 0 (a count: a bool here stops the
+// vectoriser).
+template <bool kRun>
+[[gnu::always_inline]] inline std::size_t spring_forces(
+    std::size_t count, std::size_t i0, std::size_t j0, const std::uint32_t* __restrict si,
+    const std::uint32_t* __restrict sj, const double* __restrict k, const double* __restrict c,
+    const double* __restrict rest, const double* __restrict x, const double* __restrict y, const double* __restrict z,
+    const double* __restrict vx, const double* __restrict vy, const double* __restrict vz, double* __restrict gx,
+    double* __restrict gy, double* __restrict gz) {
+    std::size_t zero_length = 0;
+    for (std::size_t t = 0; t < count; ++t) {
+        const std::size_t i = kRun ? i0 + t : si[t], j = kRun ? j0 + t : sj[t];
         const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
         const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
         const double nx = dx / length, ny = dy / length, nz = dz / length;
-        const double magnitude = list[s].k * (length - list[s].rest) +
-                                 list[s].c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
-        gx[s] = magnitude * nx, gy[s] = magnitude * ny, gz[s] = magnitude * nz;
+        const double magnitude =
+            k[t] * (length - rest[t]) + c[t] * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
+        gx[t] = magnitude * nx, gy[t] = magnitude * ny, gz[t] = magnitude * nz;
         zero_length += length == 0.0;
     }
     return zero_length;
 }
 
-// Pass 2: each particle's sum, its ends in list order: f_p += sign g, with
-// sign = +1 or -1 exact and f - g the same number as f + (-g), so the same
-// additions in the same order as the reference loop's. Each particle is read
-// and written once, where the reference loop read-modifies-writes two
-// particles per spring.
-void sum_at_particles(const std::uint32_t* __restrict first, const std::uint32_t* __restrict spring,
-                      const double* __restrict sign, const double* __restrict gx, const double* __restrict gy,
-                      const double* __restrict gz, std::size_t n, double* __restrict fx, double* __restrict fy,
-                      double* __restrict fz) {
-    for (std::size_t p = 0; p < n; ++p) {
-        double ax = fx[p], ay = fy[p], az = fz[p];
-        for (std::uint32_t e = first[p]; e < first[p + 1]; ++e) {
-            const std::uint32_t s = spring[e];
-            ax += sign[e] * gx[s], ay += sign[e] * gy[s], az += sign[e] * gz[s];
+// Pass 2 over a block, one coordinate: particle t's sum f[t] + s_0 g[base_0 + t]
+// + s_1 g[base_1 + t] + ..., left to right (the reference loop's order; s = ±1
+// is exact and f + (-g) is f - g). Eight particles side by side, their sums
+// held in registers while the ends go by.
+[[gnu::always_inline]] inline void block_sums(std::size_t count, std::size_t degree,
+                                              const std::uint32_t* __restrict base, const double* __restrict sign,
+                                              const double* __restrict g, double* __restrict f) {
+    constexpr std::size_t kLanes = 8;
+    std::size_t t = 0;
+    for (; t + kLanes <= count; t += kLanes) {
+        double sum[kLanes];
+        for (std::size_t l = 0; l < kLanes; ++l) sum[l] = f[t + l];
+        for (std::size_t e = 0; e < degree; ++e) {
+            const double* __restrict ge = g + base[e] + t;
+            const double s = sign[e];
+            for (std::size_t l = 0; l < kLanes; ++l) sum[l] += s * ge[l];
         }
-        fx[p] = ax, fy[p] = ay, fz[p] = az;
+        for (std::size_t l = 0; l < kLanes; ++l) f[t + l] = sum[l];
+    }
+    for (; t < count; ++t) {
+        double sum = f[t];
+        for (std::size_t e = 0; e < degree; ++e) sum += sign[e] * g[base[e] + t];
+        f[t] = sum;
     }
 }
+
+// The kernels of one instruction set.
+struct SpringKernels {
+    std::size_t (*run)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*, const double*,
+                       const double*, const double*, const double*, const double*, const double*, const double*,
+                       const double*, const double*, double*, double*, double*);
+    std::size_t (*loose)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*,
+                         const double*, const double*, const double*, const double*, const double*, const double*,
+                         const double*, const double*, const double*, double*, double*, double*);
+    void (*block)(std::size_t, std::size_t, const std::uint32_t*, const double*, const double*, double*);
+};
+
+template <typename... A>
+std::size_t run_base(A... a) {
+    return spring_forces<true>(a...);
+}
+template <typename... A>
+std::size_t loose_base(A... a) {
+    return spring_forces<false>(a...);
+}
+template <typename... A>
+void block_base(A... a) {
+    block_sums(a...);
+}
+constexpr SpringKernels kBaseKernels{&run_base, &loose_base, &block_base};
+
+#if defined(__x86_64__) && defined(__GNUC__)
+template <typename... A>
+[[gnu::target("avx2")]] std::size_t run_avx2(A... a) {
+    return spring_forces<true>(a...);
+}
+template <typename... A>
+[[gnu::target("avx2")]] std::size_t loose_avx2(A... a) {
+    return spring_forces<false>(a...);
+}
+template <typename... A>
+[[gnu::target("avx2")]] void block_avx2(A... a) {
+    block_sums(a...);
+}
+constexpr SpringKernels kWideKernels{&run_avx2, &loose_avx2, &block_avx2};
+#else
+constexpr SpringKernels kWideKernels = kBaseKernels;
+#endif
 
 }  // namespace
 
 void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f) {
     const std::size_t m = springs.list.size();
-    if (plan.zero_rest || plan.i.size() != m || in.first != 0 || plan.first.size() != in.x.n + 1) {
+    if (plan.zero_rest || plan.springs != m || in.first != 0 || plan.first.size() != in.x.n + 1) {
         accumulate(springs, in, f);
         return;
     }
-    const std::size_t zero_length =
-        spring_forces(springs.list.data(), plan.i.data(), plan.j.data(), m, in.x.c[0], in.x.c[1], in.x.c[2], in.v.c[0],
-                      in.v.c[1], in.v.c[2], plan.gx.data(), plan.gy.data(), plan.gz.data());
+    if (springs.plasticity.enabled()) {
+        for (std::size_t q = 0; q < m; ++q) plan.rest[q] = springs.list[plan.order[q]].rest;
+    }
+    const SpringKernels& kernels = plan.wide ? kWideKernels : kBaseKernels;
+    const double *x = in.x.c[0], *y = in.x.c[1], *z = in.x.c[2];
+    const double *vx = in.v.c[0], *vy = in.v.c[1], *vz = in.v.c[2];
+    double *gx = plan.gx.data(), *gy = plan.gy.data(), *gz = plan.gz.data();
+    std::size_t zero_length = 0;
+    for (const SpringPlan::Run& r : plan.runs) {
+        zero_length += kernels.run(r.count, r.i, r.j, nullptr, nullptr, &plan.k[r.q], &plan.c[r.q], &plan.rest[r.q], x,
+                                   y, z, vx, vy, vz, gx + r.q, gy + r.q, gz + r.q);
+    }
+    const std::size_t q = plan.loose;
+    zero_length += kernels.loose(m - q, 0, 0, plan.li.data(), plan.lj.data(), plan.k.data() + q, plan.c.data() + q,
+                                 plan.rest.data() + q, x, y, z, vx, vy, vz, gx + q, gy + q, gz + q);
     // Two particles on top of each other: no direction, a force the reference
     // loop leaves out (0 / 0 above). Rare enough to redo the pass its way.
     if (zero_length > 0) {
         accumulate(springs, in, f);
         return;
     }
-    sum_at_particles(plan.first.data(), plan.spring.data(), plan.sign.data(), plan.gx.data(), plan.gy.data(),
-                     plan.gz.data(), f.n, f.c[0], f.c[1], f.c[2]);
+    const double* g[3] = {gx, gy, gz};
+    for (const SpringPlan::Block& b : plan.blocks) {
+        for (int axis = 0; axis < 3; ++axis) {
+            kernels.block(b.count, b.degree, &plan.base[b.ends], &plan.base_sign[b.ends], g[axis], f.c[axis] + b.p);
+        }
+    }
+    for (const std::uint32_t p : plan.singles) {
+        double ax = f.c[0][p], ay = f.c[1][p], az = f.c[2][p];
+        for (std::uint32_t e = plan.first[p]; e < plan.first[p + 1]; ++e) {
+            const std::uint32_t s = plan.spring[e];
+            ax += plan.sign[e] * gx[s], ay += plan.sign[e] * gy[s], az += plan.sign[e] * gz[s];
+        }
+        f.c[0][p] = ax, f.c[1][p] = ay, f.c[2][p] = az;
+    }
 }
 
 double potential_energy(const Springs& springs, const ForceInput& in) {

@@ -57,26 +57,56 @@ constexpr bool is_local(const Springs&) { return false; }
 // its first particle and subtracted from its second.
 void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f);
 
-// A spring list laid out for the fast force pass below: index arrays for the
-// two particles of each spring, and at each particle the ends of its springs
-// in list order. It depends on the topology only (which particles each spring
-// joins), not on rest lengths, which plastic springs change: built once per
-// generator (ParticleForces keeps one), with the pass's scratch.
+// A spring list laid out for the fast force pass below. Pass 1 computes each
+// spring's force in its own order: springs sorted by (j - i, i), so that a
+// cloth's or a lattice's springs fall into runs where both particles advance
+// by one per spring (their coordinates load as contiguous vectors, not one
+// by one through indices); springs outside a long run come last and are
+// gathered through their indices. Pass 2 sums each particle's springs in list
+// order (the reference loop's additions, so its bits); particles in a row
+// with the same pattern (the same count of springs, the same signs, and
+// each spring one further on in pass 1's order than the neighbour's) are
+// summed side by side, as vectors. The plan copies k, c and rest: built
+// once per generator (ParticleForces keeps one); the rest lengths of plastic
+// springs are re-read on every pass. Build a new plan after changing any
+// other spring.
 struct SpringPlan {
-    std::vector<std::uint32_t> i, j;    // (springs) first and second particle of each spring
-    std::vector<std::uint32_t> first;   // (particles + 1) particle p's ends are [first[p], first[p + 1])
-    std::vector<std::uint32_t> spring;  // (2 x springs) the spring of each end, in list order at each particle
-    std::vector<double> sign;           // (2 x springs) +1 at a spring's first particle, -1 at its second
-    bool zero_rest = false;             // a spring of rest length 0 (force k d): the reference loop only
-    std::vector<double> gx, gy, gz;     // (springs) scratch: force on each spring's first particle, N
+    struct Run {
+        std::uint32_t q = 0;      // first spring of the run, in pass 1's order
+        std::uint32_t count = 0;  // springs q + t join particles i + t and j + t, t < count
+        std::uint32_t i = 0, j = 0;
+    };
+    struct Block {
+        std::uint32_t p = 0;       // first particle of the block
+        std::uint32_t count = 0;   // particles p .. p + count - 1
+        std::uint32_t degree = 0;  // springs at each particle
+        std::uint32_t ends = 0;    // end e of particle p + t is spring base[ends + e] + t, times sign[ends + e]
+    };
+    std::size_t springs = 0;             // size of the list the plan was built for
+    std::vector<std::uint32_t> order;    // (springs) list index of the spring at each place in pass 1's order
+    std::vector<double> k, c, rest;      // (springs) their parameters in that order, N/m, N·s/m, m
+    std::vector<Run> runs;               // springs [0, loose) of pass 1, in runs
+    std::uint32_t loose = 0;             // springs [loose, springs) are gathered through li, lj
+    std::vector<std::uint32_t> li, lj;   // (springs - loose) their particles
+    std::vector<Block> blocks;           // pass 2, particles summed side by side
+    std::vector<std::uint32_t> base;     // (ends of the blocks) see Block
+    std::vector<double> base_sign;       // (ends of the blocks) +1 or -1
+    std::vector<std::uint32_t> singles;  // pass 2, particles summed one at a time through first, spring, sign:
+    std::vector<std::uint32_t> first;    // (particles + 1) particle p's ends are [first[p], first[p + 1])
+    std::vector<std::uint32_t>
+        spring;                // (2 x springs) the spring of each end (pass 1's order), list order at each particle
+    std::vector<double> sign;  // (2 x springs) +1 at a spring's first particle, -1 at its second
+    bool zero_rest = false;    // a spring of rest length 0 (force k d): the reference loop only
+    bool wide = false;         // the AVX2 build of the passes (the same bits), where the CPU has it
+    std::vector<double> gx, gy, gz;  // (springs) scratch: force on each spring's first particle, N
 };
 SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);
+// True when this CPU runs the AVX2 build of the fast pass (plan.wide's default).
+bool wide_spring_pass_available();
 
-// The same bits as accumulate(springs, in, f), faster on large systems: the
-// force of every spring first (a loop the compiler vectorises), then each
-// particle's sum in list order. Falls back to the reference loop for a plan
-// that does not fit (other springs, a block of the system) and when a spring
-// has zero length.
+// The same bits as accumulate(springs, in, f), faster on large systems.
+// Falls back to the reference loop for a plan that does not fit (other
+// springs, a block of the system) and when a spring has zero length.
 void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f);
 // U = Σ ½ k (|d| - ℓ)².
 double potential_energy(const Springs& springs, const ForceInput& in);

@@ -103,52 +103,101 @@ bool same_bits(const Vec3Array& a, const Vec3Array& b) {
 }
 
 TEST(Spring, FastPassGivesTheReferenceLoopsBits) {
-    // A 16 x 16 cloth (structural, shear and bend springs), crumpled and moving.
+    // A 16 x 16 cloth (structural, shear and bend springs), crumpled and moving:
+    // its springs fall into runs, its inner particles into blocks and its
+    // edges into single particles.
     ParticleModel model;
     ClothDef cloth;
     cloth.nx = cloth.ny = 16;
     cloth.links.damping = 0.3;  // N·s/m
     add_cloth(model, cloth);
-    Springs springs = std::get<Springs>(model.forces.at(0));
+    const Springs built = std::get<Springs>(model.forces.at(0));
     const std::size_t n = model.particles.size();
-    Fixture fx(n);
     Random random(11);
+    Fixture crumpled(n);
     for (std::size_t i = 0; i < n; ++i) {
-        fx.x.set(i, model.particles[i].position + 0.02 * random.unit_vector());
+        crumpled.x.set(i, model.particles[i].position + 0.02 * random.unit_vector());
+        crumpled.v.set(i, random.normal(0.0, 1.0) * random.unit_vector());
+    }
+    // The pinned build (SSE) and, where the CPU has it, the AVX2 build.
+    std::vector<bool> widths{false};
+    if (wide_spring_pass_available()) widths.push_back(true);
+    for (const bool wide : widths) {
+        SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
+        Springs springs = built;
+        Fixture fx = crumpled;
+        SpringPlan plan = plan_springs(springs, n);
+        plan.wide = wide;
+        EXPECT_FALSE(plan.runs.empty());
+        EXPECT_FALSE(plan.blocks.empty());
+        EXPECT_FALSE(plan.singles.empty());
+        // Both start from the same forces (gravity, say): the order of the
+        // additions shows in the bits.
+        Vec3Array reference(n);
+        for (std::size_t i = 0; i < n; ++i) reference.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
+        Vec3Array fast = reference;
+        accumulate(springs, fx.input(), reference.span());
+        accumulate(springs, plan, fx.input(), fast.span());
+        EXPECT_TRUE(same_bits(reference, fast));
+
+        // Plastic springs change rest lengths; the pass re-reads them.
+        springs.plasticity.yield_strain = 0.1;
+        springs.plasticity.creep = 1.0;  // 1/s
+        for (Spring& s : springs.list) s.rest *= 1.1;
+        Vec3Array reference2(n), fast2(n);
+        accumulate(springs, fx.input(), reference2.span());
+        accumulate(springs, plan, fx.input(), fast2.span());
+        EXPECT_TRUE(same_bits(reference2, fast2)) << "after rest lengths changed";
+
+        // Two particles on top of each other (no direction: the reference loop
+        // leaves the spring out) and a spring of rest length 0 (force k d): the
+        // fast pass hands both to the reference loop.
+        fx.x.set(1, fx.x.get(0));
+        Vec3Array reference3(n), fast3(n);
+        accumulate(springs, fx.input(), reference3.span());
+        accumulate(springs, plan, fx.input(), fast3.span());
+        EXPECT_TRUE(same_bits(reference3, fast3)) << "a spring of length 0";
+        springs.list.push_back({2, 40, 0.0, 50.0, 0.1});
+        SpringPlan zero_rest = plan_springs(springs, n);
+        zero_rest.wide = wide;
+        EXPECT_TRUE(zero_rest.zero_rest);
+        Vec3Array reference4(n), fast4(n);
+        accumulate(springs, fx.input(), reference4.span());
+        accumulate(springs, zero_rest, fx.input(), fast4.span());
+        EXPECT_TRUE(same_bits(reference4, fast4)) << "a spring of rest length 0";
+    }
+}
+
+TEST(Spring, FastPassGivesTheReferenceLoopsBitsOnAnyTopology) {
+    // Springs in no order at all (random pairs, both directions, repeated
+    // pairs) next to a rope (one long run): every spring and particle path.
+    const std::size_t n = 300;
+    Random random(5);
+    Springs springs;
+    for (std::uint32_t i = 0; i + 1 < 100; ++i) springs.list.push_back({i, i + 1, 0.05, 400.0, 0.2});
+    for (int s = 0; s < 700; ++s) {
+        const auto i = static_cast<std::uint32_t>(random.uniform(0.0, n - 1e-9));
+        auto j = static_cast<std::uint32_t>(random.uniform(0.0, n - 1e-9));
+        if (j == i) j = (i + 1) % n;
+        springs.list.push_back({i, j, random.uniform(0.0, 0.5) + 0.01, random.uniform(1.0, 500.0), 0.05});
+    }
+    Fixture fx(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        fx.x.set(i, random.uniform(0.0, 1.0) * random.unit_vector());
         fx.v.set(i, random.normal(0.0, 1.0) * random.unit_vector());
     }
-    // Both start from the same forces (gravity, say): the order of the
-    // additions shows in the bits.
     Vec3Array reference(n);
-    for (std::size_t i = 0; i < n; ++i) reference.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
-    Vec3Array fast = reference;
-    SpringPlan plan = plan_springs(springs, n);
     accumulate(springs, fx.input(), reference.span());
-    accumulate(springs, plan, fx.input(), fast.span());
-    EXPECT_TRUE(same_bits(reference, fast));
-
-    // Plastic springs change rest lengths, not the plan (it holds the topology only).
-    for (Spring& s : springs.list) s.rest *= 1.1;
-    Vec3Array reference2(n), fast2(n);
-    accumulate(springs, fx.input(), reference2.span());
-    accumulate(springs, plan, fx.input(), fast2.span());
-    EXPECT_TRUE(same_bits(reference2, fast2)) << "after rest lengths changed";
-
-    // Two particles on top of each other (no direction: the reference loop
-    // leaves the spring out) and a spring of rest length 0 (force k d): the
-    // fast pass hands both to the reference loop.
-    fx.x.set(1, fx.x.get(0));
-    Vec3Array reference3(n), fast3(n);
-    accumulate(springs, fx.input(), reference3.span());
-    accumulate(springs, plan, fx.input(), fast3.span());
-    EXPECT_TRUE(same_bits(reference3, fast3)) << "a spring of length 0";
-    springs.list.push_back({2, 40, 0.0, 50.0, 0.1});
-    SpringPlan zero_rest = plan_springs(springs, n);
-    EXPECT_TRUE(zero_rest.zero_rest);
-    Vec3Array reference4(n), fast4(n);
-    accumulate(springs, fx.input(), reference4.span());
-    accumulate(springs, zero_rest, fx.input(), fast4.span());
-    EXPECT_TRUE(same_bits(reference4, fast4)) << "a spring of rest length 0";
+    for (const bool wide : {false, true}) {
+        if (wide && !wide_spring_pass_available()) continue;
+        SpringPlan plan = plan_springs(springs, n);
+        plan.wide = wide;
+        EXPECT_FALSE(plan.runs.empty()) << "the rope";
+        EXPECT_LT(plan.loose, springs.list.size()) << "the random springs";
+        Vec3Array fast(n);
+        accumulate(springs, plan, fx.input(), fast.span());
+        EXPECT_TRUE(same_bits(reference, fast)) << (wide ? "AVX2 build" : "pinned build");
+    }
 }
 
 TEST(Spring, PotentialIsHalfKStretchSquared) {
