@@ -5,6 +5,9 @@
 //    btSoftBody (a peer, linked only here) with 1 solver iteration: ours
 //    should make >= 5x its steps/s.
 //  - Cloth64Xpbd: the same cloth with XPBD constraints, 1 iteration.
+//  - SpringPass64/0 and /1: the cloth's spring forces alone (the fast pass of
+//    sim/spring.h, after 200 steps of motion), the pinned (SSE) build and the
+//    AVX2 build the step uses where the CPU has it.
 //  - Fountain10k: 10,000 droplets with ground and particle collisions, one
 //    1/60 s frame (one step, as the fountain scene) after 4 s of warm-up:
 //    target <= 1.65 ms, the lecture's 5% of a 33 ms frame.
@@ -61,6 +64,31 @@ void Cloth64(benchmark::State& state) {
         benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(Cloth64)->Unit(benchmark::kMillisecond);
+
+void SpringPass64(benchmark::State& state) {
+    const bool wide = state.range(0) != 0;
+    if (wide && !sim::wide_spring_pass_available()) {
+        state.SkipWithError("this CPU has no AVX2");
+        return;
+    }
+    sim::World world(cloth(sim::LinkSettings::Kind::springs));
+    for (int i = 0; i < 200; ++i) world.step({sim::Integrator::symplectic_euler, kDt, 1});
+    const sim::Springs* springs = nullptr;
+    for (const auto& f : world.model().forces) {
+        if (const auto* s = std::get_if<sim::Springs>(&f)) springs = s;
+    }
+    const sim::ParticleState& now = world.state();
+    sim::SpringPlan plan = sim::plan_springs(*springs, now.size());
+    plan.wide = wide;
+    sim::Vec3Array f(now.size());
+    const sim::ForceInput in{0.0, 0, now.x.span(), now.v.span(), now.mass.data(), now.inv_mass.data()};
+    for (auto _ : state) {
+        sim::accumulate(*springs, plan, in, f.span());
+        benchmark::DoNotOptimize(f.raw().data());
+    }
+    state.SetLabel(wide ? "AVX2" : "pinned x86-64-v2");
+}
+BENCHMARK(SpringPass64)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 void Cloth64Xpbd(benchmark::State& state) {
     sim::World world(cloth(sim::LinkSettings::Kind::constraints));
