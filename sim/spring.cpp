@@ -228,13 +228,13 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
         std::uint32_t count = 1;
         while (p + count < particle_count && same_pattern(plan, p, count)) ++count;
         const std::uint32_t degree = plan.first[p + 1] - plan.first[p];
-        if (count >= kMinRun && degree > 0) {
+        if (degree > 0 && count >= kMinRun) {
             plan.blocks.push_back({p, count, degree, static_cast<std::uint32_t>(plan.base.size())});
             for (std::uint32_t e = plan.first[p]; e < plan.first[p + 1]; ++e) {
                 plan.base.push_back(plan.spring[e]);
                 plan.base_sign.push_back(plan.sign[e]);
             }
-        } else {
+        } else if (degree > 0) {  // (particles without springs have nothing to add)
             for (std::uint32_t r = p; r < p + count; ++r) plan.singles.push_back(r);
         }
         p += count;
