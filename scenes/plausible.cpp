@@ -1,9 +1,11 @@
 // The `plausible` command (DESIGN.md, "The command"). Exit codes: 0 ok,
-// 1 a check failed or a simulation exploded, 2 bad input.
+// 1 a check failed or a simulation exploded, 2 bad input; 130 (143) when
+// Ctrl+C (SIGTERM) stopped a video, report or run --csv, with nothing written.
 #include "render/font.h"
 #include "render/gl_context.h"
 #include "render/renderer.h"
 #include "scenes/check.h"
+#include "scenes/interrupt.h"
 #include "scenes/progress.h"
 #include "scenes/report.h"
 #include "scenes/scene.h"
@@ -88,9 +90,14 @@ struct RunOutput {
 
 int run_scene(const SceneOptions& options, const RunOutput& output) {
     const scenes::SceneDef scene = options.load();
+    scenes::SceneRun run(scene);
     std::ofstream csv;
     std::string csv_temp;
+    // Ctrl+C while the CSV is being written: stop at the next frame and
+    // remove it (a run without --csv writes nothing and keeps the default).
+    std::optional<scenes::InterruptScope> interrupts;
     if (output.csv) {
+        interrupts.emplace();
         csv_temp = *output.csv + ".tmp-" + std::to_string(getpid());
         csv.open(csv_temp, std::ios::binary);
         if (!csv) throw sim::InputError("--csv: cannot write " + *output.csv);
@@ -115,14 +122,24 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         }
     };
 
-    scenes::SceneRun run(scene);
     const double e0 = run.world().energy();
     double e_min = e0, e_max = e0;
-    write_rows(run);
-    while (run.frame() < scene.frames && run.advance()) {
-        const double e = run.world().energy();
-        e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+    try {
         write_rows(run);
+        while (run.frame() < scene.frames && run.advance()) {
+            const double e = run.world().energy();
+            e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+            write_rows(run);
+            if (scenes::interrupt_signal() != 0)
+                scenes::check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
+        }
+    } catch (...) {
+        if (csv.is_open()) {
+            csv.close();
+            std::error_code error;
+            fs::remove(csv_temp, error);
+        }
+        throw;
     }
     if (run.verdict().exploded()) {
         write_rows(run);
@@ -509,6 +526,9 @@ int main(int argc, char** argv) {
             return kExitOk;
         }
         return check(check_args, check_options);
+    } catch (const scenes::Interrupted& e) {
+        std::fprintf(stderr, "plausible: %s\n", e.what());
+        return e.exit_code();
     } catch (const sim::InputError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitBadInput;

@@ -1,6 +1,9 @@
 // A progress bar with ETA on stderr, for the long commands (report, video):
 // one line rewritten in place, a newline when done. Off, it only counts.
+// Each step is also where a long command notices Ctrl+C (scenes/interrupt.h).
 #pragma once
+
+#include "scenes/interrupt.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,9 +18,18 @@ public:
     Progress(std::string label, bool on, int total)
         : label_(std::move(label)), on_(on), total_(total), start_(std::chrono::steady_clock::now()) {}
 
-    // One step done; `what` says which (shown, cut to 28 characters).
+    Progress(const Progress&) = delete;
+    Progress& operator=(const Progress&) = delete;
+    // Stopped early (an error, Ctrl+C): the message that follows starts a line.
+    ~Progress() {
+        if (on_ && done_ < total_) std::fprintf(stderr, "\n");
+    }
+
+    // One step done; `what` says which (shown, cut to 28 characters). Throws
+    // Interrupted if a signal came inside an InterruptScope.
     void step(const std::string& what) {
         ++done_;
+        if (interrupt_signal() != 0) check_interrupt(label_, "the end of " + what);
         if (!on_) return;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
         const double eta = done_ > 0 ? elapsed / done_ * (total_ - done_) : 0.0;

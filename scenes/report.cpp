@@ -2,6 +2,7 @@
 
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/interrupt.h"
 #include "scenes/progress.h"
 #include "scenes/report_peers.h"
 #include "scenes/scene.h"
@@ -706,6 +707,7 @@ fs::path write_report(const ReportOptions& options) {
     std::error_code ec;
     fs::create_directories(parent, ec);
     const fs::path tmp = parent / (".report-" + std::to_string(getpid()));
+    const InterruptScope interrupts;  // Ctrl+C: stop after the step under way, remove the folder
     fs::remove_all(tmp, ec);
     if (!fs::create_directories(tmp, ec) || ec) throw sim::InputError("report: cannot write --out " + out.string());
     try {

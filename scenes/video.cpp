@@ -3,6 +3,7 @@
 #include "render/font.h"
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/interrupt.h"
 #include "scenes/progress.h"
 #include "scenes/scene_run.h"
 #include "sim/error.h"
@@ -221,7 +222,8 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     render::Renderer renderer(*context);
     VideoStats stats;
     const auto start = Clock::now();
-    std::signal(SIGPIPE, SIG_IGN);  // a dead ffmpeg shows as a failed write, not a killed process
+    std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
+    const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
     FILE* pipe = nullptr;
     render::Image frame;
     Progress progress("video", options.progress, frames);
@@ -281,9 +283,12 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
             physics += std::chrono::duration<double>(p1 - p0).count();
             render_time += std::chrono::duration<double>(p2 - p1).count();
             if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe) != frame.pixels.size()) {
+                // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
+                check_interrupt("video", "frame " + std::to_string(k));
                 throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
                                          std::to_string(k) + ": " + read_all(log));
             }
+            if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
             char what[64];
             std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
                           (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
@@ -292,6 +297,7 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
         const int status = pclose(pipe);
         pipe = nullptr;
         if (status != 0) {
+            check_interrupt("video", "the last frame");
             throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
                                      "): " + read_all(log));
         }
