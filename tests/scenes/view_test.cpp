@@ -64,12 +64,16 @@ protected:
     // unloads Mesa's GLX driver (swrast_dri.so) before exit, so Mesa's
     // per-process allocations show as leaks in an "unknown module" that no
     // suppression can name. AddressSanitizer's other checks stay on.
+    // Xvfb runs with -r (no key auto-repeat): on a loaded machine xdotool's
+    // press and release of a key can be far enough apart for the server to
+    // repeat it, and the viewer steps on every repeat (a held Right keeps
+    // stepping), which made a 60-press script run 61 frames.
     Ran under_xvfb(const std::string& script) const {
         const fs::path file = dir_ / "script.sh";
         std::ofstream(file) << "export ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\"\n"
                             << "VIEW='" << PLAUSIBLE_EXE << " view'\n"
                             << script;
-        return shell("cd '" + dir_.string() + "' && timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' sh '" +
+        return shell("cd '" + dir_.string() + "' && timeout 120 xvfb-run -a -s '-screen 0 1280x800x24 -r' sh '" +
                      file.string() + "'");
     }
 
