@@ -1,9 +1,11 @@
 // Ctrl+C (SIGINT) and SIGTERM during a command that writes through a
 // temporary file (video, report, run --csv): instead of dying with the
 // temporary left behind, the command stops at its next check, removes what
-// it started and exits 128 + the signal (130 for Ctrl+C) with nothing
-// written. A second signal ends the process at once, as usual. Outside an
-// InterruptScope the signals keep their default action.
+// it started, says so, and then ends by the same signal (main() re-raises
+// it), so that a shell sees an interrupted command (status 130 or 143) and a
+// loop around it stops too. A second signal ends the process at once
+// (SA_RESETHAND): for a user who will not wait for the clean-up. Outside an
+// InterruptScope the signals keep their previous handlers.
 #pragma once
 
 #include <signal.h>
@@ -18,14 +20,14 @@ class Interrupted : public std::runtime_error {
 public:
     Interrupted(const std::string& what, int signal) : std::runtime_error(what), signal_(signal) {}
     int signal() const { return signal_; }
-    int exit_code() const { return 128 + signal_; }
 
 private:
     int signal_;
 };
 
-// While one lives, SIGINT and SIGTERM are caught (and remembered) instead of
-// ending the process; the previous handlers come back when it goes.
+// While one lives, SIGINT and SIGTERM are caught (the first one remembered)
+// instead of ending the process; the previous handlers come back, and the
+// remembered signal is forgotten, when it goes.
 class InterruptScope {
 public:
     InterruptScope();
@@ -43,5 +45,14 @@ int interrupt_signal();
 // Throws Interrupted if a signal came: "<command>: interrupted by SIGINT
 // (Ctrl+C) at <where>; nothing written" (command "video", where "frame 12").
 void check_interrupt(const std::string& command, const std::string& where);
+
+// Throws that Interrupted for `signal`.
+[[noreturn]] void throw_interrupted(const std::string& command, const std::string& where, int signal);
+
+// The signal (SIGINT or SIGTERM) that ended a child process, from a
+// system() or pclose() status: killed by it, or a shell's exit status
+// 128 + it. 0 otherwise. (system() ignores SIGINT in the caller while the
+// child runs, so a Ctrl+C then reaches only the child: this is how it shows.)
+int child_interrupt(int status);
 
 }  // namespace scenes

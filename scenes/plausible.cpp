@@ -1,6 +1,7 @@
 // The `plausible` command (DESIGN.md, "The command"). Exit codes: 0 ok,
-// 1 a check failed or a simulation exploded, 2 bad input; 130 (143) when
-// Ctrl+C (SIGTERM) stopped a video, report or run --csv, with nothing written.
+// 1 a check failed or a simulation exploded, 2 bad input. Ctrl+C (SIGTERM)
+// during a video, report or run --csv: nothing written, and the command ends
+// by that signal (a shell shows 130, 143), see scenes/interrupt.h.
 #include "render/font.h"
 #include "render/gl_context.h"
 #include "render/renderer.h"
@@ -20,6 +21,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -148,6 +150,11 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
     }
     if (csv.is_open()) {
         csv.close();
+        if (const int signal = scenes::interrupt_signal(); signal != 0) {
+            std::error_code error;
+            fs::remove(csv_temp, error);
+            scenes::throw_interrupted("run --csv", "the last frame", signal);
+        }
         std::error_code error;
         fs::rename(csv_temp, *output.csv, error);
         if (error) {
@@ -527,8 +534,13 @@ int main(int argc, char** argv) {
         }
         return check(check_args, check_options);
     } catch (const scenes::Interrupted& e) {
+        // Cleaned up (the scopes that wrote are gone): end by the signal, as
+        // without the handler, so that a shell loop around us stops too.
         std::fprintf(stderr, "plausible: %s\n", e.what());
-        return e.exit_code();
+        std::fflush(stderr);
+        std::signal(e.signal(), SIG_DFL);
+        std::raise(e.signal());
+        return 128 + e.signal();
     } catch (const sim::InputError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitBadInput;

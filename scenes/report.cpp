@@ -583,6 +583,8 @@ double encode_seconds(const std::vector<render::Image>& clip, int frames, const 
     text << said.rdbuf();
     said.close();
     fs::remove(log);
+    if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("report", "a test clip", signal);
+    check_interrupt("report", "a test clip");  // Ctrl+C reaches ffmpeg too, which stops reading
     if (!written || status != 0) {
         throw sim::InputError("report: ffmpeg failed encoding a test clip (exit status " + std::to_string(status) +
                               "): " + text.str());
@@ -674,6 +676,8 @@ void gnuplot(const fs::path& dir, const std::string& name, const std::string& sc
     text << e.rdbuf();
     fs::remove(err);
     fs::remove(gp);
+    // system() ignores Ctrl+C here while gnuplot runs: a gnuplot ended by it says so.
+    if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("report", name + ".png", signal);
     if (status != 0) throw sim::InputError("report: gnuplot failed on " + name + ".png: " + text.str());
 }
 
@@ -1413,6 +1417,7 @@ fs::path write_report(const ReportOptions& options) {
            << ". Rendering 1280x720 with 4x MSAA in software (OSMesa) takes " << fmt("%.0f", fastest) << " to "
            << fmt("%.0f", slowest) << " ms a frame: there, not in the physics, is where a 33 ms frame goes.\n";
         write_file(tmp / "report.md", md.str());
+        check_interrupt("report", "the plots");
 
         fs::remove_all(out, ec);
         fs::rename(tmp, out, ec);

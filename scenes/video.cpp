@@ -296,8 +296,9 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
         }
         const int status = pclose(pipe);
         pipe = nullptr;
+        if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("video", "the end", signal);
+        check_interrupt("video", "the end");
         if (status != 0) {
-            check_interrupt("video", "the last frame");
             throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
                                      "): " + read_all(log));
         }

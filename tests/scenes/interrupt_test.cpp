@@ -1,8 +1,10 @@
 // Ctrl+C and SIGTERM during the commands that write through a temporary file
-// (video, report, run --csv), through the real command: it exits 128 + the
-// signal, says so, and leaves nothing behind, neither the output nor the
-// temporary. And the scope itself: the signal is caught inside, the previous
-// handler is back outside.
+// (video, report, run --csv), through the real command: it says so, leaves
+// nothing behind (neither the output nor the temporary) and ends by the
+// signal, so that a shell loop around it stops. Signalled alone, or with its
+// whole process group as a terminal's Ctrl+C does (ffmpeg and gnuplot get it
+// too). And the scope itself: the signal caught inside, the previous
+// handlers back outside.
 #include "scenes/interrupt.h"
 
 #include <gtest/gtest.h>
@@ -14,8 +16,11 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -27,26 +32,52 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(InterruptScope, CatchesTheSignalInsideAndRestoresTheHandlerOutside) {
+// The handler installed for `signal` now.
+void (*handler(int signal))(int) {
+    struct sigaction now;
+    sigaction(signal, nullptr, &now);
+    return now.sa_handler;
+}
+
+TEST(InterruptScope, CatchesTheSignalInsideAndRestoresThePreviousHandlers) {
+    // Markers to see come back: SIGINT ignored, SIGTERM at its default.
+    std::signal(SIGINT, SIG_IGN);
     {
         const scenes::InterruptScope scope;
+        EXPECT_NE(handler(SIGINT), SIG_IGN);
+        EXPECT_NE(handler(SIGTERM), SIG_DFL);
         EXPECT_EQ(scenes::interrupt_signal(), 0);
+    }
+    EXPECT_EQ(handler(SIGINT), SIG_IGN) << "restored without a signal";
+    EXPECT_EQ(handler(SIGTERM), SIG_DFL) << "restored without a signal";
+    {
+        const scenes::InterruptScope scope;
         EXPECT_NO_THROW(scenes::check_interrupt("test", "step 1"));
         ASSERT_EQ(::raise(SIGINT), 0);  // caught: the test goes on
-        EXPECT_EQ(scenes::interrupt_signal(), SIGINT);
+        ASSERT_EQ(::raise(SIGTERM), 0);
+        EXPECT_EQ(scenes::interrupt_signal(), SIGINT) << "the first signal is the one kept";
         try {
             scenes::check_interrupt("test", "step 2");
             ADD_FAILURE() << "no Interrupted after SIGINT";
         } catch (const scenes::Interrupted& e) {
-            EXPECT_EQ(e.exit_code(), 130);
+            EXPECT_EQ(e.signal(), SIGINT);
             EXPECT_STREQ(e.what(), "test: interrupted by SIGINT (Ctrl+C) at step 2; nothing written");
         }
     }
-    struct sigaction now;
-    ASSERT_EQ(sigaction(SIGINT, nullptr, &now), 0);
-    EXPECT_EQ(now.sa_handler, SIG_DFL) << "the default action is back";
-    const scenes::InterruptScope again;
-    EXPECT_EQ(scenes::interrupt_signal(), 0) << "a new scope starts clean";
+    EXPECT_EQ(handler(SIGINT), SIG_IGN) << "restored after a signal";
+    EXPECT_EQ(handler(SIGTERM), SIG_DFL) << "restored after a signal";
+    EXPECT_EQ(scenes::interrupt_signal(), 0) << "forgotten with the scope";
+    EXPECT_NO_THROW(scenes::check_interrupt("test", "after the scope"));
+    std::signal(SIGINT, SIG_DFL);
+}
+
+TEST(InterruptScope, ChildInterruptReadsRealChildStatuses) {
+    EXPECT_EQ(scenes::child_interrupt(std::system("kill -INT $$")), SIGINT) << "killed by SIGINT";
+    EXPECT_EQ(scenes::child_interrupt(std::system("kill -TERM $$")), SIGTERM) << "killed by SIGTERM";
+    EXPECT_EQ(scenes::child_interrupt(std::system("exit 130")), SIGINT) << "a shell's 128 + SIGINT";
+    EXPECT_EQ(scenes::child_interrupt(std::system("exit 0")), 0);
+    EXPECT_EQ(scenes::child_interrupt(std::system("exit 1")), 0);
+    EXPECT_EQ(scenes::child_interrupt(std::system("kill -KILL $$")), 0) << "SIGKILL is no interrupt";
 }
 
 class Interrupt : public ::testing::Test {
@@ -59,14 +90,15 @@ protected:
     void TearDown() override { fs::remove_all(dir_); }
 
     struct Ended {
-        int status = -1;  // exit status, -1 if it did not exit
+        int signal = 0;   // the signal that ended it, 0 if it exited
+        int status = -1;  // its exit status if it exited
         std::string err;  // what it wrote on stderr
     };
-    // Runs `plausible args...` with its output in out/, waits until its
-    // temporary file or folder shows there (the output comes only at the end,
-    // renamed from it), sends
-    // `signal` to the command alone (not to ffmpeg), and waits for the end.
-    Ended interrupt(const std::vector<std::string>& args, int signal) {
+    // Runs `plausible args...` (output in out/) in a process group of its
+    // own, waits until `ready()` (at most 120 s), sends `signal` to the
+    // command alone or (`group`) to its whole group, and waits for the end
+    // (SIGKILL after 120 s more: a test failure, not a hang).
+    Ended interrupt(const std::vector<std::string>& args, int signal, bool group, const std::function<bool()>& ready) {
         std::vector<std::string> argv_s{PLAUSIBLE_EXE};
         argv_s.insert(argv_s.end(), args.begin(), args.end());
         std::vector<char*> argv;
@@ -77,55 +109,108 @@ protected:
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
         posix_spawn_file_actions_addopen(&actions, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        posix_spawnattr_t attributes;
+        posix_spawnattr_init(&attributes);
+        posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+        posix_spawnattr_setpgroup(&attributes, 0);
         pid_t pid = 0;
-        const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+        const int spawned = posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ);
         posix_spawn_file_actions_destroy(&actions);
+        posix_spawnattr_destroy(&attributes);
         EXPECT_EQ(spawned, 0) << "cannot start " << PLAUSIBLE_EXE;
         if (spawned != 0) return {};
-        bool seen = false;
-        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-        while (!seen && std::chrono::steady_clock::now() < deadline) {
-            seen = !fs::is_empty(dir_ / "out");
-            if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        EXPECT_TRUE(seen) << "no temporary file showed in 60 s";
-        ::kill(pid, signal);
         int status = 0;
-        waitpid(pid, &status, 0);
+        bool ended = false, seen = false;
+        auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+        while (!seen && !ended && std::chrono::steady_clock::now() < deadline) {
+            seen = ready();
+            ended = waitpid(pid, &status, WNOHANG) == pid;
+            if (!seen && !ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        EXPECT_TRUE(seen) << (ended ? "the command ended before it was ready" : "not ready in 120 s");
+        if (!ended) {
+            ::kill(group ? -pid : pid, signal);
+            deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+            while (!ended && std::chrono::steady_clock::now() < deadline) {
+                ended = waitpid(pid, &status, WNOHANG) == pid;
+                if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
+            EXPECT_TRUE(ended) << "still running 120 s after the signal";
+            if (!ended) {
+                ::kill(-pid, SIGKILL);
+                waitpid(pid, &status, 0);
+            }
+        }
         std::ifstream in(err_path);
         std::stringstream err;
         err << in.rdbuf();
         std::printf("%s", err.str().c_str());
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, err.str()};
+        return {WIFSIGNALED(status) ? WTERMSIG(status) : 0, WIFEXITED(status) ? WEXITSTATUS(status) : -1, err.str()};
+    }
+    // The command's temporary showed in out/ (the output comes only at the
+    // end, renamed from it).
+    std::function<bool()> temporary_shows() const {
+        return [out = dir_ / "out"] { return !fs::is_empty(out); };
     }
     // Nothing left in out/: no output, no temporary.
     void expect_nothing_written() const {
         for (const auto& entry : fs::directory_iterator(dir_ / "out")) ADD_FAILURE() << "left behind: " << entry.path();
     }
-    fs::path out(const std::string& name) const { return dir_ / "out" / name; }
+    std::string out(const std::string& name) const { return (dir_ / "out" / name).string(); }
 
     fs::path dir_;
 };
 
-TEST_F(Interrupt, CtrlCDuringAVideoExits130AndLeavesNoFile) {
-    const Ended e =
-        interrupt({"video", "cloth", "-o", out("cloth.mp4").string(), "--size", "320x180", "--seconds", "600"}, SIGINT);
-    EXPECT_EQ(e.status, 130);
+const std::vector<std::string> kLongVideo{"video", "cloth", "--size", "320x180", "--seconds", "600"};
+
+TEST_F(Interrupt, CtrlCDuringAVideoEndsItByTheSignalAndLeavesNoFile) {
+    std::vector<std::string> args = kLongVideo;
+    args.insert(args.end(), {"-o", out("cloth.mp4")});
+    const Ended e = interrupt(args, SIGINT, false, temporary_shows());
+    EXPECT_EQ(e.signal, SIGINT) << "exit status " << e.status;
     EXPECT_NE(e.err.find("video: interrupted by SIGINT (Ctrl+C) at frame"), std::string::npos) << e.err;
     expect_nothing_written();
 }
 
-TEST_F(Interrupt, SigtermDuringAReportExits143AndLeavesNoFolder) {
-    const Ended e = interrupt({"report", "--quick", "--out", out("report").string()}, SIGTERM);
-    EXPECT_EQ(e.status, 143);
+TEST_F(Interrupt, CtrlCToTheVideosProcessGroupReachesFfmpegTooAndLeavesNoFile) {
+    std::vector<std::string> args = kLongVideo;
+    args.insert(args.end(), {"-o", out("cloth.mp4")});
+    const Ended e = interrupt(args, SIGINT, true, temporary_shows());
+    EXPECT_EQ(e.signal, SIGINT) << "exit status " << e.status;
+    EXPECT_NE(e.err.find("video: interrupted by SIGINT (Ctrl+C)"), std::string::npos) << e.err;
+    expect_nothing_written();
+}
+
+TEST_F(Interrupt, SigtermDuringAReportEndsItByTheSignalAndLeavesNoFolder) {
+    const Ended e = interrupt({"report", "--quick", "--out", out("report")}, SIGTERM, false, temporary_shows());
+    EXPECT_EQ(e.signal, SIGTERM) << "exit status " << e.status;
     EXPECT_NE(e.err.find("report: interrupted by SIGTERM"), std::string::npos) << e.err;
     expect_nothing_written();
 }
 
-TEST_F(Interrupt, CtrlCDuringARunWithCsvExits130AndLeavesNoCsv) {
-    const Ended e =
-        interrupt({"run", "showcase", "--frames", "1000000", "--csv", out("showcase.csv").string()}, SIGINT);
-    EXPECT_EQ(e.status, 130);
+// The report's plots come last, from gnuplot through system(), which ignores
+// Ctrl+C in the caller while the child runs: the command learns of it from
+// gnuplot's status (before, it failed with "gnuplot failed", exit 2).
+TEST_F(Interrupt, CtrlCToTheReportsProcessGroupWhilePlottingLeavesNoFolder) {
+    const fs::path out_dir = dir_ / "out";
+    const Ended e = interrupt({"report", "--quick", "--out", out("report")}, SIGINT, true, [out_dir] {
+        for (const auto& entry : fs::directory_iterator(out_dir)) {
+            if (!entry.is_directory()) continue;
+            for (const auto& file : fs::directory_iterator(entry.path())) {
+                if (file.path().extension() == ".png") return true;  // the first plot is out
+            }
+        }
+        return false;
+    });
+    EXPECT_EQ(e.signal, SIGINT) << "exit status " << e.status;
+    EXPECT_NE(e.err.find("report: interrupted by SIGINT (Ctrl+C)"), std::string::npos) << e.err;
+    expect_nothing_written();
+}
+
+TEST_F(Interrupt, CtrlCDuringARunWithCsvEndsItByTheSignalAndLeavesNoCsv) {
+    const Ended e = interrupt({"run", "showcase", "--frames", "1000000", "--csv", out("showcase.csv")}, SIGINT, false,
+                              temporary_shows());
+    EXPECT_EQ(e.signal, SIGINT) << "exit status " << e.status;
     EXPECT_NE(e.err.find("run --csv: interrupted by SIGINT (Ctrl+C) at frame"), std::string::npos) << e.err;
     expect_nothing_written();
 }
