@@ -355,14 +355,22 @@ constexpr SpringKernels kWideKernels = kBaseKernels;
 
 }  // namespace
 
-void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f) {
+bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f) {
     const std::size_t m = springs.list.size();
     if (plan.zero_rest || plan.springs != m || in.first != 0 || plan.first.size() != in.x.n + 1) {
         accumulate(springs, in, f);
-        return;
+        return false;
     }
     if (springs.plasticity.enabled()) {
-        for (std::size_t q = 0; q < m; ++q) plan.rest[q] = springs.list[plan.order[q]].rest;
+        bool zero_rest = false;  // (a plastic rest length stays >= rest0 (1 - max_strain) > 0: a guard)
+        for (std::size_t q = 0; q < m; ++q) {
+            plan.rest[q] = springs.list[plan.order[q]].rest;
+            zero_rest = zero_rest || plan.rest[q] == 0.0;
+        }
+        if (zero_rest) {
+            accumulate(springs, in, f);
+            return false;
+        }
     }
     const SpringKernels& kernels = plan.wide ? kWideKernels : kBaseKernels;
     const double *x = in.x.c[0], *y = in.x.c[1], *z = in.x.c[2];
@@ -380,7 +388,7 @@ void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, 
     // loop leaves out (0 / 0 above). Rare enough to redo the pass its way.
     if (zero_length > 0) {
         accumulate(springs, in, f);
-        return;
+        return false;
     }
     const double* g[3] = {gx, gy, gz};
     for (const SpringPlan::Block& b : plan.blocks) {
@@ -396,6 +404,7 @@ void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, 
         }
         f.c[0][p] = ax, f.c[1][p] = ay, f.c[2][p] = az;
     }
+    return true;
 }
 
 double potential_energy(const Springs& springs, const ForceInput& in) {

@@ -68,8 +68,8 @@ void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f);
 // each spring one further on in pass 1's order than the neighbour's) are
 // summed side by side, as vectors. The plan copies k, c and rest: built
 // once per generator (ParticleForces keeps one); the rest lengths of plastic
-// springs are re-read on every pass. Build a new plan after changing any
-// other spring.
+// springs are re-read on every pass. It checks only the list's length: build
+// a new plan after changing any spring otherwise (nothing in sim/ does).
 struct SpringPlan {
     struct Run {
         std::uint32_t q = 0;      // first spring of the run, in pass 1's order
@@ -105,9 +105,10 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);
 bool wide_spring_pass_available();
 
 // The same bits as accumulate(springs, in, f), faster on large systems.
-// Falls back to the reference loop for a plan that does not fit (other
-// springs, a block of the system) and when a spring has zero length.
-void accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f);
+// Falls back to the reference loop for a plan that does not fit (a list of
+// another length, a block of the system), for springs of rest length 0 and
+// when a spring has zero length. Returns true when the fast pass ran.
+bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f);
 // U = Σ ½ k (|d| - ℓ)².
 double potential_energy(const Springs& springs, const ForceInput& in);
 // ∂f/∂x from the stretch and the change of direction, with the transverse term
