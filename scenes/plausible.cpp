@@ -135,6 +135,12 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
             if (scenes::interrupt_signal() != 0)
                 scenes::check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
         }
+        if (run.verdict().exploded()) {
+            write_rows(run);
+            const double e = run.world().energy();
+            e_min = std::min(e_min, e), e_max = std::max(e_max, e);
+        }
+        if (csv.is_open()) scenes::check_interrupt("run --csv", "the last frame");
     } catch (...) {
         if (csv.is_open()) {
             csv.close();
@@ -143,18 +149,8 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
         }
         throw;
     }
-    if (run.verdict().exploded()) {
-        write_rows(run);
-        const double e = run.world().energy();
-        e_min = std::min(e_min, e), e_max = std::max(e_max, e);
-    }
     if (csv.is_open()) {
         csv.close();
-        if (const int signal = scenes::interrupt_signal(); signal != 0) {
-            std::error_code error;
-            fs::remove(csv_temp, error);
-            scenes::throw_interrupted("run --csv", "the last frame", signal);
-        }
         std::error_code error;
         fs::rename(csv_temp, *output.csv, error);
         if (error) {

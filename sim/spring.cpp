@@ -312,12 +312,11 @@ template <bool kRun>
 
 // The kernels of one instruction set.
 struct SpringKernels {
-    std::size_t (*run)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*, const double*,
-                       const double*, const double*, const double*, const double*, const double*, const double*,
-                       const double*, const double*, double*, double*, double*);
-    std::size_t (*loose)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*,
-                         const double*, const double*, const double*, const double*, const double*, const double*,
-                         const double*, const double*, const double*, double*, double*, double*);
+    using Forces = std::size_t (*)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*,
+                                   const double*, const double*, const double*, const double*, const double*,
+                                   const double*, const double*, const double*, const double*, double*, double*,
+                                   double*);  // spring_forces<kRun>
+    Forces run, loose;
     void (*block)(std::size_t, std::size_t, const std::uint32_t*, const double*, const double*, double*);
 };
 
