@@ -612,7 +612,7 @@ SceneCost scene_cost(const std::string& name, render::Renderer& renderer, bool q
     c.exploded = run.verdict().exploded();
     c.steps_per_frame = (1.0 / 30.0) / scene.step.dt;
     const double to_ms = 1e3 * c.steps_per_frame / c.frames;  // s over the run -> ms per 30 FPS frame
-    const auto& t = run.world().times();
+    const auto& t = run.world().times();  // sampled frames (World::SystemTimes)
     for (const std::string& system : scene.systems()) {
         const double v = system == "particles"     ? t.particles
                          : system == "constraints" ? t.constraints
@@ -621,7 +621,7 @@ SceneCost scene_cost(const std::string& name, render::Renderer& renderer, bool q
                          : system == "rigid"       ? t.rigid
                          : system == "watchdog"    ? t.watchdog
                                                    : -1.0;
-        if (v >= 0.0) c.systems.emplace_back(system, v * to_ms);
+        if (v >= 0.0) c.systems.emplace_back(system, t.ms_per_step(v) * c.steps_per_frame);
     }
     c.physics = wall * to_ms;  // everything advance() does, the systems and the glue between them
     // Rendering: the last frame a few times (--quick), or the scene's first 30

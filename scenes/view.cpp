@@ -335,14 +335,17 @@ public:
     }
 
     void record_times(double render_ms) {
+        // Per frame step since the last sampled one (World::SystemTimes
+        // samples a light scene's frames, so several may share a figure).
         const sim::World::SystemTimes& t = run_->world().times();
         const std::array<double, 6> now{t.particles, t.constraints, t.collisions, t.plasticity, t.rigid, t.watchdog};
-        const int frames = std::max(1, run_->frame() - last_frame_);
+        const std::uint64_t sampled = t.sampled_frames - last_sampled_frames_;
         for (std::size_t k = 0; k < now.size(); ++k) {
-            system_ms_[k].push(static_cast<float>(1e3 * std::max(0.0, now[k] - last_times_[k]) / frames));
+            if (sampled > 0) last_ms_[k] = 1e3 * std::max(0.0, now[k] - last_times_[k]) / static_cast<double>(sampled);
+            system_ms_[k].push(static_cast<float>(last_ms_[k]));
         }
-        last_times_ = now;
-        last_frame_ = run_->frame();
+        if (sampled > 0) last_times_ = now;
+        last_sampled_frames_ = t.sampled_frames;
         render_ms_.push(static_cast<float>(render_ms));
         energy_.push(static_cast<float>(run_->world().energy()));
     }
@@ -419,7 +422,8 @@ private:
         history_bytes_ = 0;
         accumulator_ = 0.0;
         last_times_ = {};
-        last_frame_ = 0;
+        last_ms_ = {};
+        last_sampled_frames_ = 0;
     }
 
     void next_integrator() {
@@ -486,8 +490,9 @@ private:
     double last_x_ = 0.0, last_y_ = 0.0;
     Series energy_, render_ms_;
     std::array<Series, 6> system_ms_;
-    std::array<double, 6> last_times_{};
-    int last_frame_ = 0;
+    std::array<double, 6> last_times_{};  // s, the world's times at the last sampled frame
+    std::array<double, 6> last_ms_{};     // ms per frame step, the last figure
+    std::uint64_t last_sampled_frames_ = 0;
 };
 
 void Viewer::panel_ui() {

@@ -1,13 +1,22 @@
 // Integrators over flat particle arrays. Contents:
 //   1. array helpers
-//   2. explicit one-stage methods: forward Euler, symplectic Euler
-//   3. Verlet family: leapfrog, velocity Verlet, Störmer (position) Verlet
-//   4. explicit Runge-Kutta from a Butcher tableau: RK4
-//   5. backward Euler (one Newton step on the linearised forces)
-//   6. the table's look-ups
+//   2. the fused pass for uniform fields (every method's update in one loop)
+//   3. explicit one-stage methods: forward Euler, symplectic Euler
+//   4. Verlet family: leapfrog, velocity Verlet, Störmer (position) Verlet
+//   5. explicit Runge-Kutta from a Butcher tableau: RK4
+//   6. backward Euler (one Newton step on the linearised forces)
+//   7. the table's look-ups
 //
 // Notation: h is the step, x and v the state at t, a = M⁻¹ f(t, x, v).
 // "Order" is the global order of the position error at a fixed end time.
+//
+// Each explicit method has two paths with the same arithmetic: over arrays
+// (one pass per line of the update, any force) and, when the whole force is
+// a uniform field (gravity and drag, the particle-effect case), one fused
+// loop that keeps each particle in registers for the whole step and
+// evaluates the field inline. Every particle sees the same operations in the
+// same order on both paths, so they give the same bits (tested); the fused
+// one is as fast as a hand-written loop of the method.
 #include "sim/integrators.h"
 
 #include <Eigen/SparseCholesky>
@@ -15,7 +24,10 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <iterator>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace sim {
@@ -35,13 +47,6 @@ void axpy(Vec3Span y, double alpha, ConstVec3Span x) {
     }
 }
 
-// y = x
-void copy(Vec3Span y, ConstVec3Span x) {
-    for (int k = 0; k < 3; ++k) {
-        std::copy(x.c[k], x.c[k] + x.n, y.c[k]);
-    }
-}
-
 // y = x + alpha z
 void assign_sum(Vec3Span y, ConstVec3Span x, double alpha, ConstVec3Span z) {
     for (int k = 0; k < 3; ++k) {
@@ -53,6 +58,94 @@ void assign_sum(Vec3Span y, ConstVec3Span x, double alpha, ConstVec3Span z) {
         }
     }
 }
+
+// Fills s.a with a(t, x, v) unless it still holds it from the last step.
+void ensure_acceleration(Dynamics& dynamics, const StepArrays& s, double t) {
+    if (!s.memory_valid) {
+        dynamics.acceleration(t, s.first, s.x, s.v, s.a);
+    }
+}
+
+// 2. The fused pass for uniform fields ----------------------------------------
+
+// One particle's vector as three scalars: the fused loops' working values.
+struct P3 {
+    double x, y, z;
+};
+inline P3 operator+(P3 a, P3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline P3 operator-(P3 a, P3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline P3 operator*(double s, P3 a) { return {s * a.x, s * a.y, s * a.z}; }
+inline P3 operator/(P3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
+
+// The field's acceleration on one particle at velocity v: field_force / m,
+// the same products as ParticleForces' field pass (0 for a pinned particle).
+template <bool kQuadratic>
+struct FieldAcceleration {
+    double gx, gy, gz, c, c2;  // UniformField's g (m/s²), c (N·s/m), c2 (N·s²/m²)
+    double m, inv_m;           // this particle's mass, kg, and inverse, 1/kg
+    P3 operator()(P3 v) const {
+        const FieldForce f = field_force<kQuadratic>(m, v.x, v.y, v.z, gx, gy, gz, c, c2);
+        return {f.x * inv_m, f.y * inv_m, f.z * inv_m};
+    }
+};
+
+// The loop itself: plain pointers and scalars only (a struct of arrays passed
+// in makes GCC reload its members every iteration and give up vectorising),
+// __restrict because no two arrays overlap. `memory` is the method's
+// per-particle memory (s.a or s.x_prev), read and written back; unused when
+// kMemory is false. rule(x, v, memory, accel, rebuild) advances one particle;
+// rebuild (a std::bool_constant, so that no branch is left in the loop) says
+// that the memory is not valid and must be rebuilt first.
+template <bool kQuadratic, bool kMemory, bool kFresh, class Rule>
+void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
+                double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
+                double* __restrict m2, const double* __restrict mass, const double* __restrict inv_mass,
+                std::size_t n, const UniformField& field, Rule rule) {
+    const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c, c2 = field.c2;
+    for (std::size_t i = 0; i < n; ++i) {
+        P3 x{x0[i], x1[i], x2[i]};
+        P3 v{v0[i], v1[i], v2[i]};
+        P3 memory{0.0, 0.0, 0.0};
+        if constexpr (kMemory) memory = {m0[i], m1[i], m2[i]};
+        rule(x, v, memory, FieldAcceleration<kQuadratic>{gx, gy, gz, c, c2, mass[i], inv_mass[i]},
+             std::bool_constant<kFresh>{});
+        x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
+        v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
+        if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
+    }
+}
+
+// Runs `rule` on every particle of the block when the force is a uniform
+// field, counting `evaluations` force evaluations per particle; false (and
+// nothing done) otherwise. `memory`: the method's memory span, or an empty one.
+template <bool kQuadratic, bool kMemory, class Rule>
+void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const double* mass, const double* inv_mass,
+                    const UniformField& field, Rule rule) {
+    auto* loop = fresh ? &field_loop<kQuadratic, kMemory, true, Rule> : &field_loop<kQuadratic, kMemory, false, Rule>;
+    loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], mass,
+         inv_mass, s.x.n, field, rule);
+}
+
+template <class Rule>
+bool fused_field_pass(Dynamics& dynamics, const StepArrays& s, Vec3Span memory, int evaluations, Rule rule) {
+    const UniformField* field = dynamics.uniform_field();
+    if (field == nullptr) return false;
+    const double* mass = dynamics.mass() + s.first;
+    const double* inv_mass = dynamics.inv_mass() + s.first;
+    const bool fresh = !s.memory_valid;
+    const bool quadratic = field->c2 != 0.0;
+    if (memory.n == 0) {
+        (quadratic ? field_loop_for<true, false, Rule> : field_loop_for<false, false, Rule>)(fresh, s, memory, mass,
+                                                                                           inv_mass, *field, rule);
+    } else {
+        (quadratic ? field_loop_for<true, true, Rule> : field_loop_for<false, true, Rule>)(fresh, s, memory, mass,
+                                                                                         inv_mass, *field, rule);
+    }
+    dynamics.count_evaluations(static_cast<std::size_t>(evaluations) * s.x.n);
+    return true;
+}
+
+// 3. Explicit one-stage methods -------------------------------------------------
 
 // The two Euler updates of one particle's component, given its acceleration.
 enum class Euler { forward, symplectic };
@@ -68,36 +161,16 @@ inline void euler_update(double& x, double& v, double a, double h) {
     }
 }
 
-// One pass over a block of a uniform field: a = field_force / m and the
-// Euler update together, so no acceleration array is written or read.
-// Plain pointers and scalars only, so that the compiler sees every one of
-// them loop-invariant and vectorises; __restrict because the six coordinate
-// arrays and the two mass arrays never overlap.
-template <Euler kKind, bool kQuadratic>
-void euler_field_pass(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
-                      double* __restrict v1, double* __restrict v2, const double* __restrict mass,
-                      const double* __restrict inv_mass, std::size_t n, double gx, double gy, double gz, double c,
-                      double c2, double h) {
-    for (std::size_t i = 0; i < n; ++i) {
-        const FieldForce f = field_force<kQuadratic>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, c2);
-        euler_update<kKind>(x0[i], v0[i], f.x * inv_mass[i], h);
-        euler_update<kKind>(x1[i], v1[i], f.y * inv_mass[i], h);
-        euler_update<kKind>(x2[i], v2[i], f.z * inv_mass[i], h);
-    }
-}
-
 template <Euler kKind>
 void euler_step(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    if (const UniformField* field = dynamics.uniform_field()) {
-        const double* m = dynamics.mass() + s.first;
-        const double* inv_m = dynamics.inv_mass() + s.first;
-        auto* pass = field->c2 != 0.0 ? &euler_field_pass<kKind, true> : &euler_field_pass<kKind, false>;
-        pass(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], m, inv_m, s.x.n, field->g.x(), field->g.y(),
-             field->g.z(), field->c, field->c2, h);
-        dynamics.count_evaluations(s.x.n);
-        return;
-    }
-    const Vec3Span a = s.scratch[0].block(0, s.x.n);
+    auto rule = [h](P3& x, P3& v, P3&, const auto& accel, auto) {
+        const P3 a = accel(v);
+        euler_update<kKind>(x.x, v.x, a.x, h);
+        euler_update<kKind>(x.y, v.y, a.y, h);
+        euler_update<kKind>(x.z, v.z, a.z, h);
+    };
+    if (fused_field_pass(dynamics, s, {}, 1, rule)) return;
+    const Vec3Span a = s.scratch(0);
     dynamics.acceleration(t, s.first, s.x, s.v, a);
     const std::size_t n = s.x.n;
     for (int k = 0; k < 3; ++k) {
@@ -110,16 +183,7 @@ void euler_step(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     }
 }
 
-// Fills s.a with a(t, x, v) unless it still holds it from the last step.
-void ensure_acceleration(Dynamics& dynamics, const StepArrays& s, double t) {
-    if (!s.memory_valid) {
-        dynamics.acceleration(t, s.first, s.x, s.v, s.a);
-    }
-}
-
 }  // namespace
-
-// 2. Explicit one-stage methods ----------------------------------------------
 
 // Forward (explicit) Euler, order 1:
 //   x' = x + h v
@@ -139,7 +203,7 @@ void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double 
     euler_step<Euler::symplectic>(dynamics, s, t, h);
 }
 
-// 3. Verlet family -----------------------------------------------------------
+// 4. Verlet family -----------------------------------------------------------
 
 // Leapfrog, kick-drift-kick, order 2:
 //   v½ = v + (h/2) a(t, x, v)           kick
@@ -148,6 +212,15 @@ void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double 
 // The last acceleration is the next step's first (kept in s.a), so it costs
 // one force evaluation per step. Exact for a constant force.
 void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    const bool fresh = !s.memory_valid;  // s.a must be evaluated first
+    auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
+        if (rebuild) a = accel(v);
+        v = v + (0.5 * h) * a;
+        x = x + h * v;
+        a = accel(v);
+        v = v + (0.5 * h) * a;
+    };
+    if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
     axpy(s.v, 0.5 * h, s.a);
     axpy(s.x, h, s.v);
@@ -163,8 +236,18 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
 // prediction of v', which keeps them second order too. One force evaluation
 // per step (a' is the next step's a). Exact for a constant force.
 void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    const bool fresh = !s.memory_valid;
+    auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
+        if (rebuild) a = accel(v);
+        const P3 v_predicted = v + h * a;
+        x = x + (h * v + (0.5 * h * h) * a);
+        v = v + (0.5 * h) * a;
+        a = accel(v_predicted);
+        v = v + (0.5 * h) * a;
+    };
+    if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    const Vec3Span v_predicted = s.scratch[0].block(0, s.x.n);
+    const Vec3Span v_predicted = s.scratch(0);
     assign_sum(v_predicted, s.v, h, s.a);
     for (int k = 0; k < 3; ++k) {
         double* xk = s.x.c[k];
@@ -187,29 +270,49 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
 // for velocity-dependent forces, energy and output. The first step (or the
 // first after h or the method changed) starts from x_prev = x - h v + (h²/2) a,
 // the Taylor expansion backwards. Pinned particles keep x_prev = x.
+namespace {
+
+// One component of the update above; x_prev is replaced by x.
+inline void stormer_update(double& x, double& v, double& x_prev, double a, double h) {
+    const double x_new = 2.0 * x - x_prev + h * h * a;
+    v = (x_new - x) / h + 0.5 * h * a;
+    x_prev = x;
+    x = x_new;
+}
+
+// The first step's x_prev, from the Taylor expansion backwards.
+inline double taylor_previous(double x, double v, double a, double h) { return x - h * v + 0.5 * h * h * a; }
+
+}  // namespace
+
 void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    const Vec3Span a = s.scratch[0].block(0, s.x.n);
+    const bool fresh = !s.memory_valid;
+    auto rule = [h](P3& x, P3& v, P3& x_prev, const auto& accel, auto rebuild) {
+        const P3 a = accel(v);
+        if (rebuild) {
+            x_prev = {taylor_previous(x.x, v.x, a.x, h), taylor_previous(x.y, v.y, a.y, h),
+                      taylor_previous(x.z, v.z, a.z, h)};
+        }
+        stormer_update(x.x, v.x, x_prev.x, a.x, h);
+        stormer_update(x.y, v.y, x_prev.y, a.y, h);
+        stormer_update(x.z, v.z, x_prev.z, a.z, h);
+    };
+    if (fused_field_pass(dynamics, s, s.x_prev, 1, rule)) return;
+    const Vec3Span a = s.scratch(0);
     dynamics.acceleration(t, s.first, s.x, s.v, a);
     for (int k = 0; k < 3; ++k) {
         double* xk = s.x.c[k];
         double* vk = s.v.c[k];
         double* pk = s.x_prev.c[k];
         const double* ak = a.c[k];
-        if (!s.memory_valid) {
-            for (std::size_t i = 0; i < s.x.n; ++i) {
-                pk[i] = xk[i] - h * vk[i] + 0.5 * h * h * ak[i];
-            }
+        if (fresh) {
+            for (std::size_t i = 0; i < s.x.n; ++i) pk[i] = taylor_previous(xk[i], vk[i], ak[i], h);
         }
-        for (std::size_t i = 0; i < s.x.n; ++i) {
-            const double x_new = 2.0 * xk[i] - pk[i] + h * h * ak[i];
-            vk[i] = (x_new - xk[i]) / h + 0.5 * h * ak[i];
-            pk[i] = xk[i];
-            xk[i] = x_new;
-        }
+        for (std::size_t i = 0; i < s.x.n; ++i) stormer_update(xk[i], vk[i], pk[i], ak[i], h);
     }
 }
 
-// 4. Explicit Runge-Kutta ----------------------------------------------------
+// 5. Explicit Runge-Kutta ----------------------------------------------------
 
 namespace {
 
@@ -229,36 +332,82 @@ constexpr ButcherTableau<4> kClassicRk4{
     {0.0, 0.5, 0.5, 1.0},
 };
 
+// The fused pass's per-particle Runge-Kutta step for a uniform field (which
+// does not depend on x, so X_i is not formed). The tableau is a template
+// argument and the stages are expanded at compile time (fold expressions, i
+// and j ascending), so that the stages stay in registers and the loop has no
+// branch: V_i = v + Σ_j (h a_ij) A_j over the non-zero a_ij.
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+inline P3 stage_velocity(P3 v, const P3* stage_a, [[maybe_unused]] double h, std::index_sequence<J...>) {
+    ((kTableau.a[I][J] != 0.0 ? void(v = v + (h * kTableau.a[I][J]) * stage_a[J]) : void()), ...);
+    return v;
+}
+
+template <const auto& kTableau, class Accel, std::size_t... I>
+inline void field_runge_kutta(P3& x, P3& v, const Accel& accel, double h, std::index_sequence<I...>) {
+    P3 stage_v[sizeof...(I)], stage_a[sizeof...(I)];
+    ((stage_v[I] = stage_velocity<kTableau, I>(v, stage_a, h, std::make_index_sequence<I>{}),
+      stage_a[I] = accel(stage_v[I])),
+     ...);
+    ((x = x + (h * kTableau.b[I]) * stage_v[I]), ...);
+    ((v = v + (h * kTableau.b[I]) * stage_a[I]), ...);
+}
+
 // For y = (x, v) and y' = (v, a(t, x, v)), stage i is
 //   X_i = x + h Σ_j a_ij V_j,   V_i = v + h Σ_j a_ij A_j,   A_i = a(t + c_i h, X_i, V_i)
-// and the step x' = x + h Σ b_i V_i, v' = v + h Σ b_i A_i.
+// and the step x' = x + h Σ b_i V_i, v' = v + h Σ b_i A_i. Sums run in j
+// (and i) order, skipping zero coefficients, on both paths.
 // Scratch: X (1 array), V_i (S arrays), A_i (S arrays).
-template <std::size_t S>
-void explicit_runge_kutta(const ButcherTableau<S>& tableau, Dynamics& dynamics, const StepArrays& s, double t,
-                          double h) {
+template <const auto& kTableau>
+void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    constexpr std::size_t S = std::size(kTableau.b);
     static_assert(2 * S + 1 <= kMaxScratch);
+    const auto& tableau = kTableau;
+    auto rule = [h](P3& x, P3& v, P3&, const auto& accel, auto) {
+        field_runge_kutta<kTableau>(x, v, accel, h, std::make_index_sequence<S>{});
+    };
+    if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
     const std::size_t n = s.x.n;
-    const Vec3Span stage_x = s.scratch[0].block(0, n);
+    const Vec3Span stage_x = s.scratch(0);
     Vec3Span stage_v[S];
     Vec3Span stage_a[S];
     for (std::size_t i = 0; i < S; ++i) {
-        stage_v[i] = s.scratch[1 + i].block(0, n);
-        stage_a[i] = s.scratch[1 + S + i].block(0, n);
+        stage_v[i] = s.scratch(1 + i);
+        stage_a[i] = s.scratch(1 + S + i);
     }
     for (std::size_t i = 0; i < S; ++i) {
-        copy(stage_x, s.x);
-        copy(stage_v[i], s.v);
-        for (std::size_t j = 0; j < i; ++j) {
-            if (tableau.a[i][j] != 0.0) {
-                axpy(stage_x, h * tableau.a[i][j], stage_v[j]);
-                axpy(stage_v[i], h * tableau.a[i][j], stage_a[j]);
+        // X_i and V_i, one pass per component.
+        for (int k = 0; k < 3; ++k) {
+            const double* x = s.x.c[k];
+            const double* v = s.v.c[k];
+            double* xi = stage_x.c[k];
+            double* vi = stage_v[i].c[k];
+            for (std::size_t p = 0; p < n; ++p) {
+                double X = x[p], V = v[p];
+                for (std::size_t j = 0; j < i; ++j) {
+                    if (tableau.a[i][j] == 0.0) continue;
+                    X += (h * tableau.a[i][j]) * stage_v[j].c[k][p];
+                    V += (h * tableau.a[i][j]) * stage_a[j].c[k][p];
+                }
+                xi[p] = X;
+                vi[p] = V;
             }
         }
         dynamics.acceleration(t + tableau.c[i] * h, s.first, stage_x, stage_v[i], stage_a[i]);
     }
-    for (std::size_t i = 0; i < S; ++i) {
-        axpy(s.x, h * tableau.b[i], stage_v[i]);
-        axpy(s.v, h * tableau.b[i], stage_a[i]);
+    // x' and v', one pass per component.
+    for (int k = 0; k < 3; ++k) {
+        double* x = s.x.c[k];
+        double* v = s.v.c[k];
+        for (std::size_t p = 0; p < n; ++p) {
+            double X = x[p], V = v[p];
+            for (std::size_t i = 0; i < S; ++i) {
+                X += (h * tableau.b[i]) * stage_v[i].c[k][p];
+                V += (h * tableau.b[i]) * stage_a[i].c[k][p];
+            }
+            x[p] = X;
+            v[p] = V;
+        }
     }
 }
 
@@ -267,10 +416,10 @@ void explicit_runge_kutta(const ButcherTableau<S>& tableau, Dynamics& dynamics, 
 // Classic RK4, order 4: four force evaluations per step at t, t + h/2,
 // t + h/2, t + h; the accuracy reference (tableau kClassicRk4 above).
 void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    explicit_runge_kutta(kClassicRk4, dynamics, s, t, h);
+    explicit_runge_kutta<kClassicRk4>(dynamics, s, t, h);
 }
 
-// 5. Backward Euler ------------------------------------------------------------
+// 6. Backward Euler ------------------------------------------------------------
 
 // Backward (implicit) Euler, order 1:
 //   v' = v + h M⁻¹ f(t + h, x', v'),   x' = x + h v'
@@ -285,7 +434,7 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     const auto size = static_cast<Eigen::Index>(3 * n);
     Jacobians jac;
-    const Vec3Span force = s.scratch[0].block(0, n);
+    const Vec3Span force = s.scratch(0);
     dynamics.force_and_jacobians(t, s.first, s.x, s.v, force, jac);
     const double* mass = dynamics.mass() + s.first;
     const double* inv_mass = dynamics.inv_mass() + s.first;
@@ -342,16 +491,7 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     }
 }
 
-// 6. Look-ups -------------------------------------------------------------------
-
-const IntegratorInfo& integrator_info(Integrator id) {
-    for (const IntegratorInfo& info : kIntegrators) {
-        if (info.id == id) {
-            return info;
-        }
-    }
-    throw std::logic_error("integrator_info: integrator missing from kIntegrators");
-}
+// 7. Look-ups -------------------------------------------------------------------
 
 std::optional<Integrator> integrator_from_name(std::string_view name) {
     for (const IntegratorInfo& info : kIntegrators) {

@@ -50,7 +50,10 @@ struct StepArrays {
     Vec3Span a;       // acceleration at (x, v), m/s² (Memory::acceleration only)
     Vec3Span x_prev;  // position one step back, m (Memory::previous_position only)
     bool memory_valid = false;
-    std::array<Vec3Span, kMaxScratch> scratch;  // temporaries, contents undefined
+    Vec3Array* temporaries = nullptr;  // (the method's scratch_arrays) each of at least x.n points
+
+    // Temporary k for this block, contents undefined.
+    Vec3Span scratch(std::size_t k) const { return temporaries[k].span().block(0, x.n); }
 };
 
 // Advances the block from time t by one step h > 0.
@@ -94,7 +97,15 @@ inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
      &backward_euler},
 }};
 
-const IntegratorInfo& integrator_info(Integrator id);
+// The table is in enumerator order, so a look-up is an index.
+constexpr bool integrators_in_order() {
+    for (std::size_t k = 0; k < kIntegrators.size(); ++k) {
+        if (static_cast<std::size_t>(kIntegrators[k].id) != k) return false;
+    }
+    return true;
+}
+static_assert(integrators_in_order(), "kIntegrators rows must follow the order of enum Integrator");
+inline const IntegratorInfo& integrator_info(Integrator id) { return kIntegrators.at(static_cast<std::size_t>(id)); }
 std::optional<Integrator> integrator_from_name(std::string_view name);
 // "forward_euler, symplectic_euler, ..." for messages.
 std::string integrator_names();

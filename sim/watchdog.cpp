@@ -68,27 +68,67 @@ void validate(const WatchdogLimits& limits) {
     }
 }
 
-Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
-              std::uint64_t frame) {
-    if (!limits.enabled) return {};
-    const std::size_t n = state.size();
-    const double* x[3] = {state.x.span().c[0], state.x.span().c[1], state.x.span().c[2]};
-    const double* v[3] = {state.v.span().c[0], state.v.span().c[1], state.v.span().c[2]};
-    // One pass that only flags; the slow path below finds which rule and which
-    // particle, in the documented order, when anything is off.
-    const double speed2_limit = limits.max_speed * limits.max_speed;
-    const double box = limits.world_half_extent;
-    std::size_t suspect = 0;  // a count, not a bool: GCC vectorises the loop only so
+namespace {
+
+// The quick pass's loop, built twice below. Comparisons and products are
+// exact at any vector width, and it only counts: both builds agree.
+[[gnu::always_inline]] inline std::size_t suspect_loop(const double* x0, const double* x1, const double* x2,
+                                                       const double* v0, const double* v1, const double* v2,
+                                                       std::size_t n, double max_speed2, double box) {
+    std::size_t suspects = 0;  // a count, not a bool: GCC vectorises the loop only so
     for (std::size_t i = 0; i < n; ++i) {
-        const double s2 = v[0][i] * v[0][i] + v[1][i] * v[1][i] + v[2][i] * v[2][i];
-        const double reach = std::max({std::abs(x[0][i]), std::abs(x[1][i]), std::abs(x[2][i])});
-        // NaN fails both comparisons, so !(a <= b) also catches it.
-        suspect += !(s2 <= speed2_limit) | !(reach <= box);
+        suspects += is_suspect(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
     }
-    if (suspect > 0) {
+    return suspects;
+}
+
+using SuspectLoop = std::size_t (*)(const double*, const double*, const double*, const double*, const double*,
+                                    const double*, std::size_t, double, double);
+
+template <typename... A>
+std::size_t suspects_base(A... a) {
+    return suspect_loop(a...);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// Twice as wide where the CPU has AVX2 (chosen at run time, as the spring pass).
+template <typename... A>
+[[gnu::target("avx2")]] std::size_t suspects_avx2(A... a) {
+    return suspect_loop(a...);
+}
+#endif
+
+SuspectLoop suspect_pass() {
+    static const SuspectLoop pass = [] {
+#if defined(__x86_64__) && defined(__GNUC__)
+        __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx2")) return &suspects_avx2<const double*, const double*, const double*,
+                                                                   const double*, const double*, const double*,
+                                                                   std::size_t, double, double>;
+#endif
+        return &suspects_base<const double*, const double*, const double*, const double*, const double*,
+                              const double*, std::size_t, double, double>;
+    }();
+    return pass;
+}
+
+}  // namespace
+
+std::size_t count_suspects(const WatchdogLimits& limits, ConstVec3Span x, ConstVec3Span v) {
+    return suspect_pass()(x.c[0], x.c[1], x.c[2], v.c[0], v.c[1], v.c[2], x.n, limits.max_speed * limits.max_speed,
+                          limits.world_half_extent);
+}
+
+Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
+              std::uint64_t frame, std::optional<std::size_t> suspects) {
+    if (!limits.enabled) return {};
+    // The quick pass only flags; the slow path below finds which rule and
+    // which particle, in the documented order, when anything is off.
+    if (!suspects) suspects = count_suspects(limits, state.x.span(), state.v.span());
+    if (*suspects > 0) {
         const Verdict found = first_violation(
-            limits, n, [&](std::size_t i) { return state.x.get(i); }, [&](std::size_t i) { return state.v.get(i); },
-            frame);
+            limits, state.size(), [&](std::size_t i) { return state.x.get(i); },
+            [&](std::size_t i) { return state.v.get(i); }, frame);
         if (found.exploded()) return found;
     }
     if (limits.energy_growth > 0.0) {

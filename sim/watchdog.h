@@ -7,7 +7,9 @@
 
 #include "sim/particles.h"
 
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,12 +59,28 @@ struct Verdict {
     std::string message(std::string_view scene) const;
 };
 
+// The per-particle rules for one particle at x, v: true when a coordinate is
+// not finite, the speed² is above max_speed2 or a coordinate is beyond ±box.
+// (NaN fails every comparison, so !(a <= b) catches it.)
+inline bool is_suspect(double x, double y, double z, double vx, double vy, double vz, double max_speed2,
+                       double box) {
+    const double speed2 = vx * vx + vy * vy + vz * vz;
+    return !(speed2 <= max_speed2) | !(std::abs(x) <= box) | !(std::abs(y) <= box) | !(std::abs(z) <= box);
+}
+
+// The per-particle rules' quick pass over a block: how many particles have a
+// non-finite coordinate, a speed above the limit or a coordinate outside the
+// world box. It only counts; check() finds which rule and which particle.
+std::size_t count_suspects(const WatchdogLimits& limits, ConstVec3Span x, ConstVec3Span v);
+
 // The first violation in a fixed order: a non-finite state (the lowest
 // particle index first; its position before its velocity), then speed, then
 // bounds (lowest index first), then energy. `energy`
-// is only read when limits.energy_growth > 0.
+// is only read when limits.energy_growth > 0. `suspects`: count_suspects
+// over the whole state, when the caller has counted them already (the world
+// does so block by block inside the integrator's pass); counted here if not.
 Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
-              std::uint64_t frame);
+              std::uint64_t frame, std::optional<std::size_t> suspects = std::nullopt);
 
 // The same rules (non-finite, speed, bounds) for rigid bodies' centres of
 // mass and velocities, body index order; the verdict's subject is "body".

@@ -3,6 +3,7 @@
 #include "sim/error.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -176,50 +177,127 @@ void World::restore(const Snapshot& snapshot) {
     }
 }
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The cost of one clock read as two reads in a row see it, s: the median of
+// a few hundred pairs, measured once per process (about 25 ns here).
+double clock_read_cost() {
+    static const double cost = [] {
+        std::array<double, 301> pairs;
+        for (double& d : pairs) {
+            const auto a = Clock::now();
+            const auto b = Clock::now();
+            d = std::chrono::duration<double>(b - a).count();
+        }
+        std::nth_element(pairs.begin(), pairs.begin() + pairs.size() / 2, pairs.end());
+        return pairs[pairs.size() / 2];
+    }();
+    return cost;
+}
+
+// A sampled frame's stopwatch: reads the clock after each stage and adds the
+// interval since the last read, less the cost of a read, to that stage.
+class FrameClock {
+public:
+    FrameClock() : read_cost_(clock_read_cost()), start_(Clock::now()), last_(start_) {}
+    void lap(double& total) {
+        const auto now = Clock::now();
+        total += std::max(0.0, std::chrono::duration<double>(now - last_).count() - read_cost_);
+        last_ = now;
+        ++reads_;
+    }
+    // The whole frame, s (less the reads inside it), and what the reads cost, s.
+    double elapsed() const {
+        return std::max(0.0, std::chrono::duration<double>(last_ - start_).count() - reads_ * read_cost_);
+    }
+    double cost() const { return (reads_ + 1) * read_cost_; }
+
+private:
+    double read_cost_;
+    Clock::time_point start_, last_;
+    int reads_ = 0;
+};
+
+// A frame that is not sampled reads no clock.
+struct NoClock {
+    void lap(double&) {}
+};
+
+}  // namespace
+
 void World::step(const StepSettings& settings) {
     validate(settings);
     if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
     ++frames_;
-    using Clock = std::chrono::steady_clock;
+    if (!sample_this_frame()) {
+        NoClock none;
+        run_substeps(settings, none);
+        return;
+    }
+    const std::uint64_t steps_before = steps_;
+    FrameClock laps;
+    run_substeps(settings, laps);
+    double rest = 0.0;  // s, after the last stage: nothing measurable, but the frame ends with a read
+    laps.lap(rest);
+    times_.total += laps.elapsed();
+    timer_cost_ += laps.cost();
+    ++times_.sampled_frames;
+    times_.sampled_steps += steps_ - steps_before;
+}
+
+bool World::sample_this_frame() const {
+    constexpr std::uint64_t kFirstFrames = 8;  // always timed
+    constexpr double kTimerShare = 0.01;       // the clocks' cost at most this share of the time measured
+    if (times_.sampled_frames < kFirstFrames) return true;
+    const double mean_frame = times_.total / static_cast<double>(times_.sampled_frames);  // s
+    return timer_cost_ <= kTimerShare * mean_frame * static_cast<double>(frames_);
+}
+
+template <class Stopwatch>
+void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     const double h = settings.dt / settings.substeps;
     const bool constrained = !model_.constraints.empty();
     // Particles collide with the colliders, each other, and (one way) the rigid bodies.
     const bool colliding = !model_.collisions.empty() || (rigid_ && state_.size() > 0);
     const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
-    // Runs one stage and adds its wall time to `total` (the per-system times).
-    auto timed = [](double& total, auto&& stage) {
-        const auto start = Clock::now();
-        stage();
-        total += std::chrono::duration<double>(Clock::now() - start).count();
-    };
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
-        timed(times_.particles, [&] {
-            for (const Emitter& emitter : model_.emitters) {
-                if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
-            }
-            // Continuous collision detection sweeps from here; a contained explosion freezes here.
-            if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
-            if (drag_ && drag_->kind == Drag::Kind::particle) apply_drag(h);
-            step_once(settings.integrator, h);  // forces and integration
-        });
-        if (constrained) timed(times_.constraints, [&] { solve_constraints(h); });
+        for (const Emitter& emitter : model_.emitters) {
+            if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
+        }
+        // Continuous collision detection sweeps from here; a contained explosion freezes here.
+        if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
+        if (drag_ && drag_->kind == Drag::Kind::particle) apply_drag(h);
+        // Forces and integration; when no later stage moves a particle, the
+        // watchdog's per-particle rules run block by block inside it.
+        step_once(settings.integrator, h, watchdog_.enabled && !constrained && !colliding);
+        laps.lap(times_.particles);
+        if (constrained) {
+            solve_constraints(h);
+            laps.lap(times_.constraints);
+        }
         if (colliding) {
-            timed(times_.collisions, [&] {
-                if (rigid_) update_body_colliders();
-                if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
-                            state_.inv_mass.data(), h, collision_scratch_, body_colliders_) > 0) {
-                    memory_valid_ = false;  // positions and velocities were edited
-                }
-            });
+            if (rigid_) update_body_colliders();
+            if (collide(model_.collisions, x_start_.span(), state_.x.span(), state_.v.span(), radius_.data(),
+                        state_.inv_mass.data(), h, collision_scratch_, body_colliders_) > 0) {
+                memory_valid_ = false;  // positions and velocities were edited
+            }
+            laps.lap(times_.collisions);
         }
-        if (plastic) timed(times_.plasticity, [&] { plasticity(h); });
+        if (plastic) {
+            plasticity(h);
+            laps.lap(times_.plasticity);
+        }
         if (rigid_) {
-            timed(times_.rigid, [&] {
-                if (drag_ && drag_->kind == Drag::Kind::body) apply_drag(h);
-                rigid_->step(h);
-            });
+            if (drag_ && drag_->kind == Drag::Kind::body) apply_drag(h);
+            rigid_->step(h);
+            laps.lap(times_.rigid);
         }
-        if (watchdog_.enabled) timed(times_.watchdog, [&] { watch(); });
+        if (watchdog_.enabled) {
+            watch();
+            laps.lap(times_.watchdog);
+        }
     }
 }
 
@@ -251,10 +329,17 @@ void World::update_body_colliders() {
 }
 
 void World::watch() {
+    // The common case, at no cost: the integrator's pass counted no suspect
+    // particle, and there is no energy rule and no body to check.
+    if (watched_suspects_ == std::size_t{0} && watchdog_.energy_growth == 0.0 && !rigid_) {
+        watched_suspects_.reset();
+        return;
+    }
     for (;;) {
         // The energy rule costs a potential-energy pass: only when asked for.
         const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
-        verdict_ = check(watchdog_, state_, e, initial_energy_, frames_);
+        verdict_ = check(watchdog_, state_, e, initial_energy_, frames_, watched_suspects_);
+        watched_suspects_.reset();  // a contained range changes the state: look again in full
         if (!verdict_.exploded() && rigid_) {
             std::vector<Vec3> positions, velocities;
             for (const BodyState& b : rigid_->body_states()) {
@@ -304,15 +389,14 @@ void World::plasticity(double h) {
     }
 }
 
-void World::step_once(Integrator integrator, double h) {
+void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     const IntegratorInfo& info = integrator_info(integrator);
     const std::size_t n = state_.size();
     if (memory_integrator_ != integrator || memory_h_ != h) {
         memory_valid_ = false;
     }
     // Scratch is allocated for the largest block the method will see.
-    const bool blocked = forces_.all_local();
-    const std::size_t block = blocked ? std::min(n, kBlock) : n;
+    const std::size_t block = forces_.all_local() ? std::min(n, kBlock) : n;
     for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
         if (scratch_[i].size() < block) {
             scratch_[i].resize(block);
@@ -326,26 +410,23 @@ void World::step_once(Integrator integrator, double h) {
         memory->resize(n);
     }
 
-    StepArrays whole;
-    whole.x = state_.x.span();
-    whole.v = state_.v.span();
-    whole.a = memory_a_.span();
-    whole.x_prev = memory_x_prev_.span();
-    whole.memory_valid = memory_valid_;
-    for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
-        whole.scratch[i] = scratch_[i].span();
-    }
-
+    std::size_t suspects = 0;
     for (std::size_t first = 0; first < n; first += block) {
         const std::size_t count = std::min(block, n - first);
-        StepArrays part = whole;
-        part.first = first;
-        part.x = whole.x.block(first, count);
-        part.v = whole.v.block(first, count);
-        part.a = info.memory == Memory::acceleration ? whole.a.block(first, count) : Vec3Span{};
-        part.x_prev = info.memory == Memory::previous_position ? whole.x_prev.block(first, count) : Vec3Span{};
-        info.step(forces_, part, state_.t, h);
+        // Every member given (no zeroing first: this runs every substep).
+        const StepArrays s{first,
+                           state_.x.span().block(first, count),
+                           state_.v.span().block(first, count),
+                           info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
+                           info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count)
+                                                                    : Vec3Span{},
+                           memory_valid_,
+                           scratch_.data()};
+        info.step(forces_, s, state_.t, h);
+        // The watchdog's per-particle rules while the block is still in cache.
+        if (watch_blocks) suspects += count_suspects(watchdog_, s.x, s.v);
     }
+    watched_suspects_ = watch_blocks ? std::optional<std::size_t>(suspects) : std::nullopt;
 
     state_.t += h;
     memory_valid_ = true;
