@@ -4,6 +4,7 @@
 #include "render/renderer.h"
 #include "scenes/interrupt.h"
 #include "scenes/progress.h"
+#include "scenes/report_growth.h"
 #include "scenes/report_peers.h"
 #include "scenes/scene.h"
 #include "scenes/scene_run.h"
@@ -730,8 +731,9 @@ fs::path write_report(const ReportOptions& options) {
                                            + list.size()                              // frame substeps
                                            + 2 * methods.size()                       // energy drift
                                            + methods.size()                           // stiff spring limits
-                                           + hard_case_count + 1 + 1  // stability map, ragdoll, small steps
-                                           + catalog().size()));      // scene costs
+                                           + hard_case_count + 1 + 1   // stability map, ragdoll, small steps
+                                           + catalog().size()          // scene costs
+                                           + growth_system_count()));  // how cost grows
 
         // 1. Work-precision.
         std::vector<Sample> samples;
@@ -872,6 +874,10 @@ fs::path write_report(const ReportOptions& options) {
                 progress.step("scene " + name);
             }
         }
+
+        // 5. How cost grows with size.
+        const std::vector<GrowthSeries> growth =
+            measure_growth(growth_timing(options.quick), [&](const std::string& s) { progress.step("growth " + s); });
 
         // --- files ---
         for (const Sample& s : samples) {  // the sweeps, then the frame substeps
@@ -1100,6 +1106,11 @@ fs::path write_report(const ReportOptions& options) {
         }
         j["peers"] = peer_json;
         write_file(tmp / "peers.csv", peer_csv.str());
+        const GrowthFiles growth_out = growth_files(growth);  // how cost grows: CSV, JSON, plot, Markdown
+        j["growth"] = growth_out.json;
+        write_file(tmp / "growth.csv", growth_out.csv);
+        write_file(tmp / "growth.dat", growth_out.plot_data);
+        gnuplot(tmp, "growth", std::string(kTerminal) + growth_out.plot_script);
         {
             nlohmann::json map = nlohmann::json::array();
             std::ostringstream csv;
@@ -1415,7 +1426,8 @@ fs::path write_report(const ReportOptions& options) {
            << (over == 0 ? std::string("No scene is over the 30% physics budget")
                          : std::to_string(over) + " scene(s) over the 30% physics budget (flagged **over**)")
            << ". Rendering 1280x720 with 4x MSAA in software (OSMesa) takes " << fmt("%.0f", fastest) << " to "
-           << fmt("%.0f", slowest) << " ms a frame: there, not in the physics, is where a 33 ms frame goes.\n";
+           << fmt("%.0f", slowest) << " ms a frame: there, not in the physics, is where a 33 ms frame goes.\n"
+           << growth_out.markdown;
         write_file(tmp / "report.md", md.str());
         check_interrupt("report", "the plots");
 

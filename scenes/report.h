@@ -5,14 +5,19 @@
 // in force evaluations and in measured time per simulated second; the fitted
 // order of convergence; the Pareto front (at each error level, the cheapest
 // method); energy drift over long runs; and the largest stable dt of each
-// method on a stiff spring, found by bisection with the watchdog deciding.
+// method on a stiff spring, found by bisection with the watchdog deciding;
+// and how the cost of a step grows with the size of six kinds of system
+// (scenes/report_growth.h), with the fitted exponent.
 //
 // Output (into --out, written whole or not at all): report.md (tables, each
 // with a one-line conclusion), work_precision.csv, orders.csv, stability.csv,
-// report.json (`orders`: a list of {integrator, problem, fitted, expected};
-// `pareto`; `drift`; `stability`) and PNG plots drawn by gnuplot (Debian's
-// gnuplot-nox): work-precision and error-against-dt with reference slopes per
-// problem, energy over time, the stability limits.
+// growth.csv (system, size, seconds_per_step), report.json (`orders`: a list
+// of {integrator, problem, fitted, expected}; `pareto`; `drift`; `stability`;
+// `growth`: a list of {system, size_unit, sizes, seconds_per_step, exponent,
+// expected}) and PNG plots drawn by gnuplot (Debian's gnuplot-nox):
+// work-precision and error-against-dt with reference slopes per problem,
+// energy over time, the stability limits, cost per step against size
+// (growth.png, log-log).
 #pragma once
 
 #include <filesystem>

@@ -4,7 +4,9 @@
 // the method's order, symplectic methods' energy error bounded over long runs
 // (and forward Euler's not), the stiff spring flagged unstable at 1/60 s
 // for the explicit methods and stable for backward Euler, odeint's peers
-// measured, and every shipped scene costed.
+// measured, every shipped scene costed, and cost growing with size as the
+// algorithms say: linear for local and spatially hashed systems, quadratic for
+// all-pairs gravity.
 #include "scenes/report.h"
 #include "sim/error.h"
 
@@ -40,7 +42,8 @@ TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
     // The files.
     for (const char* name :
          {"report.md", "report.json", "work_precision.csv", "orders.csv", "stability.csv",
-          "work_precision_oscillator.png", "error_vs_dt_kepler_e0.9.png", "energy.png", "stability.png"}) {
+          "work_precision_oscillator.png", "error_vs_dt_kepler_e0.9.png", "energy.png", "stability.png",
+          "growth.csv", "growth.png"}) {
         const fs::path p = dir / "report" / name;
         ASSERT_TRUE(fs::exists(p)) << p;
         EXPECT_GT(fs::file_size(p), 100u) << p;
@@ -124,6 +127,29 @@ TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
         EXPECT_GT(c["physics_ms_per_frame"].get<double>(), 0.0) << c["scene"];
         EXPECT_GT(c["render_ms_per_frame"].get<double>(), 0.0) << c["scene"];
     }
+
+    // How cost grows: the fitted exponent p of cost ∝ size^p within 0.35 of the
+    // algorithm's (1: local or hashed, 2: all pairs). The timings are best of 3
+    // on a shared machine; across runs here the exponents stayed within 0.1.
+    std::map<std::string, double> expected_growth = {{"free particles", 1.0},
+                                                     {"mass-spring cloth", 1.0},
+                                                     {"XPBD cloth", 1.0},
+                                                     {"fountains (particle collisions)", 1.0},
+                                                     {"N-body (Newton gravity)", 2.0},
+                                                     {"ragdolls (ODE)", 1.0}};
+    for (const auto& g : json["growth"]) {
+        const std::string system = g["system"].get<std::string>();
+        ASSERT_EQ(expected_growth.count(system), 1u) << system << ": not a system the test knows";
+        EXPECT_EQ(g["expected"].get<double>(), expected_growth[system]) << system;
+        const auto& sizes = g["sizes"];
+        ASSERT_GE(sizes.size(), 4u) << system;
+        EXPECT_GE(sizes.back().get<double>() / sizes.front().get<double>(), 8.0) << system << ": sizes span";
+        EXPECT_NEAR(g["exponent"].get<double>(), expected_growth[system], 0.35)
+            << system << ": fitted exponent of cost per step against size, expected " << expected_growth[system]
+            << " ± 0.35";
+        expected_growth.erase(system);
+    }
+    EXPECT_TRUE(expected_growth.empty()) << expected_growth.size() << " system(s) missing from growth";
     fs::remove_all(dir);
 }
 
