@@ -48,11 +48,13 @@ public:
 
     // a = M⁻¹ f(t, x, v) for the particles [first, first + x.n); a pinned
     // particle (inverse mass 0) gets a = 0.
-    virtual void acceleration(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span a) = 0;
+    virtual void acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                              const Vec3Span& a) = 0;
 
     // f(t, x, v) and its Jacobians for the same block, for implicit methods.
     // jac arrives empty; its indices are local to the block.
-    virtual void force_and_jacobians(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span f,
+    virtual void force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                                     const Vec3Span& f,
                                      Jacobians& jac) = 0;
 
     // Masses of the whole system, kg, and inverse masses, 1/kg (0 = pinned).

@@ -55,7 +55,7 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
     }
 }
 
-ForceInput ParticleForces::input(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v) const {
+ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const {
     return {t, first, x, v, mass_->data() + first, inv_mass_->data() + first};
 }
 
@@ -82,7 +82,7 @@ void field_loop(const double* __restrict vx, const double* __restrict vy, const 
 
 }  // namespace
 
-void ParticleForces::field_pass(const ForceInput& in, Vec3Span out, bool to_acceleration) const {
+void ParticleForces::field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const {
     const bool quadratic = field_.c2 != 0.0;
     auto* loop = quadratic ? (to_acceleration ? &field_loop<true, true> : &field_loop<true, false>)
                            : (to_acceleration ? &field_loop<false, true> : &field_loop<false, false>);
@@ -90,24 +90,51 @@ void ParticleForces::field_pass(const ForceInput& in, Vec3Span out, bool to_acce
          field_.g.y(), field_.g.z(), field_.c, field_.c2);
 }
 
-void ParticleForces::sum_forces(const ForceInput& in, Vec3Span f) const {
+namespace {
+
+// f = 0: one fill when the three components lie end to end (a whole
+// Vec3Array, the usual case), else one per component.
+void zero(const Vec3Span& f) {
+    if (f.c[1] == f.c[0] + f.n && f.c[2] == f.c[1] + f.n) {
+        std::fill(f.c[0], f.c[0] + 3 * f.n, 0.0);
+        return;
+    }
+    for (int k = 0; k < 3; ++k) std::fill(f.c[k], f.c[k] + f.n, 0.0);
+}
+
+// a *= 1 / m, particle by particle (one loop for the three components).
+void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double* __restrict a2,
+                           const double* __restrict inv_m, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+        a0[i] *= inv_m[i];
+        a1[i] *= inv_m[i];
+        a2[i] *= inv_m[i];
+    }
+}
+
+}  // namespace
+
+void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f) const {
     if (has_field_) {
         field_pass(in, f, false);
     } else {
-        for (int k = 0; k < 3; ++k) {
-            std::fill(f.c[k], f.c[k] + f.n, 0.0);
-        }
+        zero(f);
     }
     for (std::size_t k = 0; k < others_.size(); ++k) {
         if (const auto* springs = std::get_if<Springs>(others_[k])) {
-            accumulate(*springs, plans_[k], in, f);
+            if (plans_[k].zero_rest) {
+                accumulate(*springs, in, f);  // what the fast pass would fall back to
+            } else {
+                accumulate(*springs, plans_[k], in, f);
+            }
         } else {
             std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);
         }
     }
 }
 
-void ParticleForces::acceleration(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span a) {
+void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                                  const Vec3Span& a) {
     const ForceInput in = input(t, first, x, v);
     particle_evaluations_ += x.n;
     if (others_.empty() && has_field_) {
@@ -115,15 +142,11 @@ void ParticleForces::acceleration(double t, std::size_t first, ConstVec3Span x, 
         return;
     }
     sum_forces(in, a);
-    for (int k = 0; k < 3; ++k) {
-        double* ak = a.c[k];
-        for (std::size_t i = 0; i < a.n; ++i) {
-            ak[i] *= in.inv_mass[i];
-        }
-    }
+    scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }
 
-void ParticleForces::force_and_jacobians(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span f,
+void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x,
+                                         const ConstVec3Span& v, const Vec3Span& f,
                                          Jacobians& jac) {
     const ForceInput in = input(t, first, x, v);
     sum_forces(in, f);

@@ -36,8 +36,10 @@ public:
     // True when every generator is local, so that a step may run block by block.
     bool all_local() const { return all_local_; }
 
-    void acceleration(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span a) override;
-    void force_and_jacobians(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v, Vec3Span f,
+    void acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                      const Vec3Span& a) override;
+    void force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                             const Vec3Span& f,
                              Jacobians& jac) override;
     const double* mass() const override { return mass_->data(); }
     const double* inv_mass() const override { return inv_mass_->data(); }
@@ -56,10 +58,10 @@ public:
     std::uint64_t particle_evaluations() const { return particle_evaluations_; }
 
 private:
-    ForceInput input(double t, std::size_t first, ConstVec3Span x, ConstVec3Span v) const;
+    ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
-    void field_pass(const ForceInput& in, Vec3Span out, bool to_acceleration) const;
-    void sum_forces(const ForceInput& in, Vec3Span f) const;
+    void field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const;
+    void sum_forces(const ForceInput& in, const Vec3Span& f) const;
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every

@@ -126,6 +126,43 @@ void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const doub
          inv_mass, s.x.n, field, rule);
 }
 
+// The acceleration a force evaluation left in an array, for one particle.
+// The methods that evaluate forces once, at the start of the step (Euler,
+// Störmer), run their fused rule over it on the array path too: one loop, the
+// same operations.
+struct GivenAcceleration {
+    P3 a;  // m/s²
+    P3 operator()(P3) const { return a; }
+};
+
+template <bool kMemory, bool kFresh, class Rule>
+void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
+                double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
+                double* __restrict m2, const double* __restrict a0, const double* __restrict a1,
+                const double* __restrict a2, std::size_t n, Rule rule) {
+    for (std::size_t i = 0; i < n; ++i) {
+        P3 x{x0[i], x1[i], x2[i]};
+        P3 v{v0[i], v1[i], v2[i]};
+        P3 memory{0.0, 0.0, 0.0};
+        if constexpr (kMemory) memory = {m0[i], m1[i], m2[i]};
+        rule(x, v, memory, GivenAcceleration{{a0[i], a1[i], a2[i]}}, std::bool_constant<kFresh>{});
+        x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
+        v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
+        if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
+    }
+}
+
+// Runs `rule` on every particle of the block with the acceleration `a`
+// evaluated before. `memory`: the method's memory span, or an empty one.
+template <class Rule>
+void given_acceleration_pass(const StepArrays& s, Vec3Span memory, ConstVec3Span a, Rule rule) {
+    const bool fresh = !s.memory_valid;
+    auto* loop = memory.n == 0 ? (fresh ? &given_loop<false, true, Rule> : &given_loop<false, false, Rule>)
+                               : (fresh ? &given_loop<true, true, Rule> : &given_loop<true, false, Rule>);
+    loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], a.c[0],
+         a.c[1], a.c[2], s.x.n, rule);
+}
+
 template <class Rule>
 bool fused_field_pass(Dynamics& dynamics, const StepArrays& s, Vec3Span memory, int evaluations, Rule rule) {
     const UniformField* field = dynamics.uniform_field();
@@ -172,15 +209,7 @@ void euler_step(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     if (fused_field_pass(dynamics, s, {}, 1, rule)) return;
     const Vec3Span a = s.scratch(0);
     dynamics.acceleration(t, s.first, s.x, s.v, a);
-    const std::size_t n = s.x.n;
-    for (int k = 0; k < 3; ++k) {
-        double* xk = s.x.c[k];
-        double* vk = s.v.c[k];
-        const double* ak = a.c[k];
-        for (std::size_t i = 0; i < n; ++i) {
-            euler_update<kKind>(xk[i], vk[i], ak[i], h);
-        }
-    }
+    given_acceleration_pass(s, {}, a, rule);
 }
 
 }  // namespace
@@ -286,7 +315,6 @@ inline double taylor_previous(double x, double v, double a, double h) { return x
 }  // namespace
 
 void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    const bool fresh = !s.memory_valid;
     auto rule = [h](P3& x, P3& v, P3& x_prev, const auto& accel, auto rebuild) {
         const P3 a = accel(v);
         if (rebuild) {
@@ -300,16 +328,7 @@ void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     if (fused_field_pass(dynamics, s, s.x_prev, 1, rule)) return;
     const Vec3Span a = s.scratch(0);
     dynamics.acceleration(t, s.first, s.x, s.v, a);
-    for (int k = 0; k < 3; ++k) {
-        double* xk = s.x.c[k];
-        double* vk = s.v.c[k];
-        double* pk = s.x_prev.c[k];
-        const double* ak = a.c[k];
-        if (fresh) {
-            for (std::size_t i = 0; i < s.x.n; ++i) pk[i] = taylor_previous(xk[i], vk[i], ak[i], h);
-        }
-        for (std::size_t i = 0; i < s.x.n; ++i) stormer_update(xk[i], vk[i], pk[i], ak[i], h);
-    }
+    given_acceleration_pass(s, s.x_prev, a, rule);
 }
 
 // 5. Explicit Runge-Kutta ----------------------------------------------------
@@ -353,6 +372,25 @@ inline void field_runge_kutta(P3& x, P3& v, const Accel& accel, double h, std::i
     ((v = v + (h * kTableau.b[I]) * stage_a[I]), ...);
 }
 
+// The array path's stage I: X_I = x + Σ_J (h a_IJ) V_J and V_I = v + Σ_J
+// (h a_IJ) A_J over the non-zero a_IJ, J ascending, in one pass over the
+// particles.
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
+                 [[maybe_unused]] double h, std::index_sequence<J...>) {
+    for (std::size_t p = 0; p < s.x.n; ++p) {
+        for (int k = 0; k < 3; ++k) {
+            double X = s.x.c[k][p], V = s.v.c[k][p];
+            ((kTableau.a[I][J] != 0.0 ? void((X += (h * kTableau.a[I][J]) * stage_v[J].c[k][p],
+                                              V += (h * kTableau.a[I][J]) * stage_a[J].c[k][p]))
+                                      : void()),
+             ...);
+            stage_x.c[k][p] = X;
+            stage_v[I].c[k][p] = V;
+        }
+    }
+}
+
 // For y = (x, v) and y' = (v, a(t, x, v)), stage i is
 //   X_i = x + h Σ_j a_ij V_j,   V_i = v + h Σ_j a_ij A_j,   A_i = a(t + c_i h, X_i, V_i)
 // and the step x' = x + h Σ b_i V_i, v' = v + h Σ b_i A_i. Sums run in j
@@ -362,7 +400,6 @@ template <const auto& kTableau>
 void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     constexpr std::size_t S = std::size(kTableau.b);
     static_assert(2 * S + 1 <= kMaxScratch);
-    const auto& tableau = kTableau;
     auto rule = [h](P3& x, P3& v, P3&, const auto& accel, auto) {
         field_runge_kutta<kTableau>(x, v, accel, h, std::make_index_sequence<S>{});
     };
@@ -375,38 +412,23 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
         stage_v[i] = s.scratch(1 + i);
         stage_a[i] = s.scratch(1 + S + i);
     }
-    for (std::size_t i = 0; i < S; ++i) {
-        // X_i and V_i, one pass per component.
+    // Each stage, then the step, in one pass over the particles (the
+    // tableau's zeros known at compile time).
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+        ((array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{}),
+          dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_x, stage_v[I], stage_a[I])),
+         ...);
+    }(std::make_index_sequence<S>{});
+    for (std::size_t p = 0; p < n; ++p) {
         for (int k = 0; k < 3; ++k) {
-            const double* x = s.x.c[k];
-            const double* v = s.v.c[k];
-            double* xi = stage_x.c[k];
-            double* vi = stage_v[i].c[k];
-            for (std::size_t p = 0; p < n; ++p) {
-                double X = x[p], V = v[p];
-                for (std::size_t j = 0; j < i; ++j) {
-                    if (tableau.a[i][j] == 0.0) continue;
-                    X += (h * tableau.a[i][j]) * stage_v[j].c[k][p];
-                    V += (h * tableau.a[i][j]) * stage_a[j].c[k][p];
-                }
-                xi[p] = X;
-                vi[p] = V;
-            }
-        }
-        dynamics.acceleration(t + tableau.c[i] * h, s.first, stage_x, stage_v[i], stage_a[i]);
-    }
-    // x' and v', one pass per component.
-    for (int k = 0; k < 3; ++k) {
-        double* x = s.x.c[k];
-        double* v = s.v.c[k];
-        for (std::size_t p = 0; p < n; ++p) {
-            double X = x[p], V = v[p];
+            double X = s.x.c[k][p], V = s.v.c[k][p];
+#pragma GCC unroll 8
             for (std::size_t i = 0; i < S; ++i) {
-                X += (h * tableau.b[i]) * stage_v[i].c[k][p];
-                V += (h * tableau.b[i]) * stage_a[i].c[k][p];
+                X += (h * kTableau.b[i]) * stage_v[i].c[k][p];
+                V += (h * kTableau.b[i]) * stage_a[i].c[k][p];
             }
-            x[p] = X;
-            v[p] = V;
+            s.x.c[k][p] = X;
+            s.v.c[k][p] = V;
         }
     }
 }

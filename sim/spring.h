@@ -55,7 +55,7 @@ void validate(const Springs& springs, std::size_t particle_count);
 constexpr bool is_local(const Springs&) { return false; }
 // The reference loop: spring_force for each spring in list order, added to
 // its first particle and subtracted from its second.
-void accumulate(const Springs& springs, const ForceInput& in, Vec3Span f);
+void accumulate(const Springs& springs, const ForceInput& in, const Vec3Span& f);
 
 // A spring list laid out for the fast force pass below. Pass 1 computes each
 // spring's force in its own order: springs sorted by (j - i, i), so that a
@@ -108,7 +108,7 @@ bool wide_spring_pass_available();
 // Falls back to the reference loop for a plan that does not fit (a list of
 // another length, a block of the system), for springs of rest length 0 and
 // when a spring has zero length. Returns true when the fast pass ran.
-bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, Vec3Span f);
+bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, const Vec3Span& f);
 // U = Σ ½ k (|d| - ℓ)².
 double potential_energy(const Springs& springs, const ForceInput& in);
 // ∂f/∂x from the stretch and the change of direction, with the transverse term

@@ -71,7 +71,7 @@ inline bool is_suspect(double x, double y, double z, double vx, double vy, doubl
 // The per-particle rules' quick pass over a block: how many particles have a
 // non-finite coordinate, a speed above the limit or a coordinate outside the
 // world box. It only counts; check() finds which rule and which particle.
-std::size_t count_suspects(const WatchdogLimits& limits, ConstVec3Span x, ConstVec3Span v);
+std::size_t count_suspects(const WatchdogLimits& limits, const ConstVec3Span& x, const ConstVec3Span& v);
 
 // The first violation in a fixed order: a non-finite state (the lowest
 // particle index first; its position before its velocity), then speed, then

@@ -57,6 +57,10 @@ World::World(ParticleModel model)
     }
     radius_.reserve(model_.particles.size());
     for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
+    stages_.constrained = !model_.constraints.empty();
+    // Particles collide with the colliders, each other, and (one way) the rigid bodies.
+    stages_.colliding = !model_.collisions.empty() || (rigid_ && state_.size() > 0);
+    stages_.plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
     initial_energy_ = energy();
 }
 
@@ -166,6 +170,7 @@ void World::restore(const Snapshot& snapshot) {
     memory_h_ = snapshot.memory_h;
     steps_ = snapshot.steps;
     frames_ = snapshot.frames;
+    next_sample_ = frames_ + 1;  // timings are not rewound; sampling starts again from here
     initial_energy_ = snapshot.initial_energy;
     verdict_ = snapshot.verdict;
     contained_ = snapshot.contained;
@@ -228,10 +233,10 @@ struct NoClock {
 }  // namespace
 
 void World::step(const StepSettings& settings) {
-    validate(settings);
+    if (!(settings.dt > 0.0) || !std::isfinite(settings.dt) || settings.substeps < 1) validate(settings);  // throws
     if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
     ++frames_;
-    if (!sample_this_frame()) {
+    if (frames_ < next_sample_) {
         NoClock none;
         run_substeps(settings, none);
         return;
@@ -245,23 +250,27 @@ void World::step(const StepSettings& settings) {
     timer_cost_ += laps.cost();
     ++times_.sampled_frames;
     times_.sampled_steps += steps_ - steps_before;
+    plan_next_sample();
 }
 
-bool World::sample_this_frame() const {
+void World::plan_next_sample() {
     constexpr std::uint64_t kFirstFrames = 8;  // always timed
     constexpr double kTimerShare = 0.01;       // the clocks' cost at most this share of the time measured
-    if (times_.sampled_frames < kFirstFrames) return true;
+    if (times_.sampled_frames < kFirstFrames) {
+        next_sample_ = frames_ + 1;
+        return;
+    }
+    // The next frame at which the clocks will have cost kTimerShare of the
+    // time the frames took (at the mean frame measured so far).
     const double mean_frame = times_.total / static_cast<double>(times_.sampled_frames);  // s
-    return timer_cost_ <= kTimerShare * mean_frame * static_cast<double>(frames_);
+    const double frames = timer_cost_ / (kTimerShare * std::max(mean_frame, 1e-12));
+    next_sample_ = std::max(frames_ + 1, static_cast<std::uint64_t>(std::min(frames, 1e18)));
 }
 
 template <class Stopwatch>
 void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     const double h = settings.dt / settings.substeps;
-    const bool constrained = !model_.constraints.empty();
-    // Particles collide with the colliders, each other, and (one way) the rigid bodies.
-    const bool colliding = !model_.collisions.empty() || (rigid_ && state_.size() > 0);
-    const bool plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
+    const bool constrained = stages_.constrained, colliding = stages_.colliding, plastic = stages_.plastic;
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         for (const Emitter& emitter : model_.emitters) {
             if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;

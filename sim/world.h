@@ -181,7 +181,7 @@ private:
     // sampled frame) or not at all.
     template <class Stopwatch>
     void run_substeps(const StepSettings& settings, Stopwatch& laps);
-    bool sample_this_frame() const;
+    void plan_next_sample();  // after a sampled frame: when to sample again
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     void step_once(Integrator integrator, double h, bool watch_blocks);
@@ -200,6 +200,9 @@ private:
     Vec3Array x_start_;           // positions at the start of the substep
     Vec3Array x_predicted_;       // positions after the integrator, before the constraints
     std::vector<double> lambda_;  // XPBD multipliers of the substep
+    struct Stages {  // which stages the model uses (fixed once built)
+        bool constrained = false, colliding = false, plastic = false;
+    } stages_;
     CollisionScratch collision_scratch_;
     std::unique_ptr<RigidWorld> rigid_;
     std::vector<MovingCollider> body_colliders_;  // rebuilt before each collision pass
@@ -220,7 +223,8 @@ private:
     std::vector<Contained> contained_;
     std::uint64_t frames_ = 0;
     SystemTimes times_;
-    double timer_cost_ = 0.0;  // s, what the clocks of the sampled frames cost
+    double timer_cost_ = 0.0;         // s, what the clocks of the sampled frames cost
+    std::uint64_t next_sample_ = 1;  // the frame (frames_ after ++) to time next
     std::optional<Drag> drag_;
 };
 
