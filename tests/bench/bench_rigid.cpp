@@ -16,6 +16,7 @@
 //
 // Each iteration builds a fresh world (not timed) and times 120 steps, so
 // every iteration measures the same 2 s of the same simulation.
+#include "bench_world.h"
 #include "scenes/scene.h"
 #include "sim/ragdoll.h"
 #include "sim/rigid.h"
@@ -74,6 +75,7 @@ void SceneWorld(benchmark::State& state) {
         state.ResumeTiming();
         for (int i = 0; i < kSteps; ++i) world.step({sim::Integrator::symplectic_euler, kDt, 1});
         benchmark::DoNotOptimize(world.rigid()->hash());
+        if (!bench::still_running(state, world, kSteps, "ragdoll pile")) break;
     }
     state.counters["ms_per_step"] = benchmark::Counter(static_cast<double>(state.iterations()) * kSteps * 1e-3,
                                                        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
