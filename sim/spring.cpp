@@ -12,16 +12,20 @@ namespace sim {
 
 Vec3 spring_force(const Spring& s, const Vec3& xi, const Vec3& xj, const Vec3& vi, const Vec3& vj) {
     const Vec3 d = xj - xi;
-    const double length = d.norm();
     if (s.rest == 0.0) {
-        // k (|d| - 0) d / |d| = k d; the damper needs a direction.
+        // k (|d| - 0) d / |d| = k d; the damper needs a direction. Without a
+        // damper no length is needed: the linear spring is k d, no square root
+        // and no division (the damper's term would add a zero, which changes
+        // no sum: forces are summed from +0).
         Vec3 f = s.k * d;
+        const double length = s.c != 0.0 ? d.norm() : 0.0;
         if (length > 0.0) {
             const Vec3 n = d / length;
             f += s.c * (vj - vi).dot(n) * n;
         }
         return f;
     }
+    const double length = d.norm();
     if (length == 0.0) {
         return Vec3::Zero();
     }
@@ -102,16 +106,18 @@ void accumulate(const Springs& springs, const ForceInput& in, const Vec3Span& f)
     for (const Spring& s : springs.list) {
         const std::uint32_t i = s.i, j = s.j;
         const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
-        const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
         double gx, gy, gz;
         if (s.rest == 0.0) {
             gx = s.k * dx, gy = s.k * dy, gz = s.k * dz;
+            // Only the damper needs the length (see spring_force).
+            const double length = s.c != 0.0 ? std::sqrt(dx * dx + dy * dy + dz * dz) : 0.0;
             if (length > 0.0) {
                 const double nx = dx / length, ny = dy / length, nz = dz / length;
                 const double damp = s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
                 gx += damp * nx, gy += damp * ny, gz += damp * nz;
             }
         } else {
+            const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
             if (length == 0.0) continue;
             const double nx = dx / length, ny = dy / length, nz = dz / length;
             const double magnitude =
