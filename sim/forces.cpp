@@ -103,8 +103,19 @@ void zero(const Vec3Span& f) {
 }
 
 // a *= 1 / m, particle by particle (one loop for the three components).
+// A few particles one at a time: a vector load of forces just written one by
+// one (a spring's scatter) waits for the stores to retire.
 void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double* __restrict a2,
                            const double* __restrict inv_m, std::size_t n) {
+    constexpr std::size_t kFew = 4;
+    if (n <= kFew) {
+        for (std::size_t i = 0; i < n && i < kFew; ++i) {
+            a0[i] *= inv_m[i];
+            a1[i] *= inv_m[i];
+            a2[i] *= inv_m[i];
+        }
+        return;
+    }
     for (std::size_t i = 0; i < n; ++i) {
         a0[i] *= inv_m[i];
         a1[i] *= inv_m[i];

@@ -7,6 +7,7 @@
 
 #include <cassert>
 #include <cstddef>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -26,8 +27,13 @@ struct Vec3View {
     Vec3View(T* x, T* y, T* z, std::size_t count) : c{x, y, z}, n(count) {}
     // A writable view converts to a read-only one.
     template <class U>
-    requires(std::is_const_v<T>&& std::is_same_v<std::remove_const_t<T>, U>) Vec3View(const Vec3View<U>& other)
-        : c{other.c[0], other.c[1], other.c[2]}, n(other.n) {}
+    // (Copied whole, as the 32 bytes it is: member by member, GCC writes it
+    // with 8-byte stores that the callee then reads with 16-byte loads, a
+    // store-forwarding stall on every force evaluation.)
+    requires(std::is_const_v<T>&& std::is_same_v<std::remove_const_t<T>, U>) Vec3View(const Vec3View<U>& other) {
+        static_assert(sizeof(Vec3View) == sizeof(Vec3View<U>));
+        std::memcpy(static_cast<void*>(this), &other, sizeof(Vec3View));
+    }
 
     Vec3 get(std::size_t i) const { return {c[0][i], c[1][i], c[2][i]}; }
     void set(std::size_t i, const Vec3& p) const requires(!std::is_const_v<T>) {

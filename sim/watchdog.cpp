@@ -115,18 +115,25 @@ SuspectLoop suspect_pass() {
 }  // namespace
 
 std::size_t count_suspects(const WatchdogLimits& limits, const ConstVec3Span& x, const ConstVec3Span& v) {
-    // A few particles: no vector loop to set up (one particle on a spring is a whole step of ~50 ns).
+    auto count_all = [&] {
+        return suspect_pass()(x.c[0], x.c[1], x.c[2], v.c[0], v.c[1], v.c[2], x.n, limits.max_speed * limits.max_speed,
+                              limits.world_half_extent);
+    };
+    // A few particles (one on a spring is a whole step of ~50 ns): one at a
+    // time, leaving at the first suspect to count them all. No vector loop:
+    // its loads of coordinates the step has just stored one by one would
+    // wait for those stores.
     constexpr std::size_t kSmall = 4;
     if (x.n <= kSmall) {
-        std::size_t suspects = 0;
         for (std::size_t i = 0; i < x.n; ++i) {
-            suspects += is_suspect(x.c[0][i], x.c[1][i], x.c[2][i], v.c[0][i], v.c[1][i], v.c[2][i],
-                                   limits.max_speed * limits.max_speed, limits.world_half_extent);
+            if (is_suspect(x.c[0][i], x.c[1][i], x.c[2][i], v.c[0][i], v.c[1][i], v.c[2][i],
+                           limits.max_speed * limits.max_speed, limits.world_half_extent)) {
+                return count_all();
+            }
         }
-        return suspects;
+        return 0;
     }
-    return suspect_pass()(x.c[0], x.c[1], x.c[2], v.c[0], v.c[1], v.c[2], x.n, limits.max_speed * limits.max_speed,
-                          limits.world_half_extent);
+    return count_all();
 }
 
 Verdict check(const WatchdogLimits& limits, const ParticleState& state, double energy, double initial_energy,
