@@ -16,6 +16,7 @@ struct UniformField {
     Vec3 g = Vec3::Zero();  // m/s²
     double c = 0.0;         // N·s/m
     double c2 = 0.0;        // N·s²/m²
+    int linear_drags = 0;   // LinearDrag generators summed into c (each has its own Jacobian entries)
 };
 
 // The field's force on one particle of mass m moving at v, N: the one formula

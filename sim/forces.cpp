@@ -43,6 +43,7 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
             field_.g += gravity->g;
         } else if (const auto* drag = std::get_if<LinearDrag>(&force)) {
             field_.c += drag->c;
+            ++field_.linear_drags;
         } else if (const auto* drag2 = std::get_if<QuadraticDrag>(&force)) {
             field_.c2 += drag2->c;
         } else {
