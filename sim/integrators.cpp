@@ -467,11 +467,14 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c;
     for (std::size_t i = 0; i < n; ++i) {
         const FieldForce f = field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
-        const bool pinned = inv_mass[i] == 0.0;
-        const double inverse = 1.0 / (pinned ? 1.0 : h * c + mass[i]);
-        v0[i] += pinned ? 0.0 : inverse * (h * f.x);
-        v1[i] += pinned ? 0.0 : inverse * (h * f.y);
-        v2[i] += pinned ? 0.0 : inverse * (h * f.z);
+        // A pinned particle's right-hand side is zero (its row the identity
+        // in the sparse system: any d > 0 gives the same zero); the factor
+        // 1 or 0 keeps the loop free of branches.
+        const double free = static_cast<double>(inv_mass[i] != 0.0);
+        const double inverse = 1.0 / (h * c + mass[i]);
+        v0[i] += inverse * ((h * f.x) * free);
+        v1[i] += inverse * ((h * f.y) * free);
+        v2[i] += inverse * ((h * f.z) * free);
         x0[i] += h * v0[i];
         x1[i] += h * v1[i];
         x2[i] += h * v2[i];
