@@ -96,12 +96,14 @@ public:
     // read (calibrated once) is taken off each interval. Divide by
     // sampled_steps, never by steps(): ms_per_step() does.
     struct SystemTimes {
-        double particles = 0.0;    // s, integration (force evaluations, springs included)
+        double particles = 0.0;    // s, integration (force evaluations, springs included), and the
+                                   // watchdog's per-particle rules when they run inside it (no
+                                   // constraints or collisions: see step_once)
         double constraints = 0.0;  // s, XPBD projection and its velocity update
         double collisions = 0.0;   // s
         double plasticity = 0.0;   // s, rest-length creep of plastic springs
         double rigid = 0.0;        // s, ODE: collisions and the solver
-        double watchdog = 0.0;     // s
+        double watchdog = 0.0;     // s, the rest of the watchdog (or all of it, after constraints or collisions)
         double total = 0.0;        // s, whole frames: everything step() did in the sampled frames
         std::uint64_t sampled_frames = 0;
         std::uint64_t sampled_steps = 0;  // integrator steps (substeps) inside the sampled frames
