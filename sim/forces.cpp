@@ -24,6 +24,7 @@ const char* force_name(const ForceDef& force) {
                           [](const Buoyancy&) { return "buoyancy"; },
                           [](const ShockWave&) { return "shock_wave"; },
                           [](const ControlForces&) { return "control"; },
+                          [](const CentralGravity&) { return "central_gravity"; },
                       },
                       force);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "sim/buoyancy.h"
+#include "sim/central_gravity.h"
 #include "sim/control_force.h"
 #include "sim/dynamics.h"
 #include "sim/gravity.h"
@@ -21,7 +22,7 @@
 namespace sim {
 
 using ForceDef = std::variant<UniformGravity, NewtonGravity, Springs, LinearDrag, QuadraticDrag, Wind, Buoyancy,
-                              ShockWave, ControlForces>;
+                              ShockWave, ControlForces, CentralGravity>;
 
 // The name scene files and messages use for a generator ("gravity", "springs", ...).
 const char* force_name(const ForceDef& force);

@@ -232,6 +232,7 @@ TEST(Potentials, ForceIsMinusGradient) {
     expect_force_is_minus_gradient(Springs{{{0, 1, 0.5, 100, 0}, {1, 2, 1.0, 40, 0}, {0, 3, 0.0, 5, 0}}}, Fixture(4));
     expect_force_is_minus_gradient(NewtonGravity{2.0, 0.1}, Fixture(4));
     expect_force_is_minus_gradient(NewtonGravity{1.5, 0.0}, Fixture(3));
+    expect_force_is_minus_gradient(CentralGravity{Vec3(0.2, -0.1, 0.3), 2.0}, Fixture(4));
     // Particle 2 partly under water, particle 3 fully, 0 and 1 above.
     expect_force_is_minus_gradient(Buoyancy{0.2, 1000.0, 9.81, 0.3, 0.0, {}}, Fixture(4));
 }
@@ -278,6 +279,7 @@ TEST(Jacobians, MatchCentralDifferences) {
     expect_jacobians_match(LinearDrag{0.7}, fx, 1e-6);
     expect_jacobians_match(QuadraticDrag{0.3}, fx, 1e-6);
     expect_jacobians_match(NewtonGravity{2.0, 0.05}, fx, 1e-4);
+    expect_jacobians_match(CentralGravity{Vec3(0.2, -0.1, 0.3), 2.0}, fx, 1e-4);
     expect_jacobians_match(UniformGravity{}, fx, 1e-9);
     Fixture four(4);
     expect_jacobians_match(Buoyancy{0.2, 1000.0, 9.81, 0.3, 2.5, {}}, four, 1e-3);
@@ -362,6 +364,7 @@ TEST(ParticleForces, LocalGeneratorsGiveTheSameForceBlockByBlock) {
     lone.velocity = Vec3(2, 0, -1);
     lone.particles = {6, 1, 3};
     expect_same_block_by_block(lone, fx, 3);
+    expect_same_block_by_block(CentralGravity{Vec3(0.2, -0.1, 0.3), 2.0}, fx, 3);
     expect_same_block_by_block(Buoyancy{0.5, 1000.0, 9.81, 0.4, 3.0, {}}, fx, 3);
     expect_same_block_by_block(Buoyancy{0.5, 1000.0, 9.81, 0.4, 3.0, {5, 2, 0}}, fx, 3);
     ShockWave shock;
@@ -380,6 +383,7 @@ TEST(ParticleForces, SceneFileNames) {
     EXPECT_STREQ(force_name(Buoyancy{}), "buoyancy");
     EXPECT_STREQ(force_name(ShockWave{}), "shock_wave");
     EXPECT_STREQ(force_name(ControlForces{}), "control");
+    EXPECT_STREQ(force_name(CentralGravity{}), "central_gravity");
 }
 
 TEST(NewtonGravity, InverseSquareLaw) {
@@ -415,6 +419,7 @@ TEST(Validation, RefusesBadParameters) {
     EXPECT_NE(message_of(QuadraticDrag{INFINITY}, 1), "");
     EXPECT_NE(message_of(NewtonGravity{0.0, 0.0}, 1), "");
     EXPECT_NE(message_of(NewtonGravity{1.0, -1.0}, 1), "");
+    EXPECT_NE(message_of(CentralGravity{Vec3::Zero(), -1.0}, 1), "");
     EXPECT_NE(message_of(UniformGravity{Vec3(0, NAN, 0)}, 1), "");
     EXPECT_EQ(message_of(Springs{{{0, 1, 1.0, 3.0, 0.0}}}, 2), "");
 }

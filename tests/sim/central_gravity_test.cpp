@@ -1,0 +1,107 @@
+// sim::CentralGravity: the inverse-square law towards a fixed point, a
+// particle's orbit against the closed-form Kepler solution (and against the
+// same orbit about a pinned particle through NewtonGravity), and copies that
+// do not attract each other: each particle of a swarm moves bit for bit as
+// it would alone. Potential, Jacobians and block-by-block evaluation are
+// checked with the other generators in forces_test.cpp.
+#include "sim/central_gravity.h"
+#include "sim/error.h"
+#include "sim/problems.h"
+#include "sim/world.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+namespace sim {
+namespace {
+
+ForceInput input_of(const Vec3Array& x, const Vec3Array& v, const std::vector<double>& mass,
+                    const std::vector<double>& inv_mass) {
+    return {0.0, 0, x.span(), v.span(), mass.data(), inv_mass.data()};
+}
+
+TEST(CentralGravity, InverseSquareLawTowardsTheCenter) {
+    const CentralGravity gravity{Vec3(1.0, -2.0, 0.5), 5.0};  // μ = 5 m³/s²
+    Vec3Array x(3), v(3), f(3);
+    x.set(0, gravity.center + Vec3(2.0, 0.0, 0.0));   // 2 m out along +x
+    x.set(1, gravity.center + Vec3(0.0, -3.0, 4.0));  // 5 m out
+    x.set(2, gravity.center);                         // at the centre: no direction to fall in
+    const std::vector<double> mass = {3.0, 0.5, 1.0}, inv_mass = {1.0 / 3.0, 2.0, 1.0};
+    accumulate(gravity, input_of(x, v, mass, inv_mass), f.span());
+    EXPECT_NEAR((f.get(0) - Vec3(-3.0 * 5.0 / 4.0, 0.0, 0.0)).norm(), 0.0, 1e-12) << "N, -m μ / r² along d̂";
+    EXPECT_NEAR((f.get(1) - (-0.5 * 5.0 / 25.0) * Vec3(0.0, -0.6, 0.8)).norm(), 0.0, 1e-12) << "N";
+    EXPECT_EQ(f.get(2), Vec3::Zero()) << "N, a particle at the centre";
+    EXPECT_TRUE(is_local(gravity));
+    EXPECT_NEAR(potential_energy(gravity, input_of(x, v, mass, inv_mass)), -3.0 * 5.0 / 2.0 - 0.5 * 5.0 / 5.0, 1e-12)
+        << "J, -m μ / r (the particle at the centre left out)";
+}
+
+TEST(CentralGravity, OrbitMatchesTheKeplerClosedForm) {
+    // e = 0.5 about a centre off the origin, RK4 at 1 ms for 5 s: the closed
+    // form is in coordinates relative to the centre.
+    const double e = 0.5;
+    const Vec3 center(0.3, -1.0, 2.0);  // m
+    ParticleModel model;
+    model.particles.push_back({center + problems::kepler_r0(e), problems::kepler_v0(e), 1e-3, false});
+    model.forces.push_back(CentralGravity{center, problems::kKeplerMu});
+    World world(model);
+    problems::run_to(world, Integrator::rk4, 5.0, 1e-3);
+    ASSERT_FALSE(world.verdict().exploded());
+    const analytic::PointState exact =
+        analytic::kepler(problems::kKeplerMu, problems::kepler_r0(e), problems::kepler_v0(e), world.state().t);
+    // RK4's error at h = 1 ms: 1.2e-11 m and 9.6e-12 m/s here.
+    EXPECT_LT((world.state().x.get(0) - center - exact.x).norm(), 1e-10) << "m, position against the closed form";
+    EXPECT_LT((world.state().v.get(0) - exact.v).norm(), 1e-10) << "m/s, velocity against the closed form";
+
+    // The same orbit about a pinned particle of mass μ/G through the all-pairs law.
+    World pinned(problems::kepler_model(e));
+    problems::run_to(pinned, Integrator::rk4, 5.0, 1e-3);
+    EXPECT_LT((world.state().x.get(0) - center - pinned.state().x.get(1)).norm(), 1e-12)
+        << "m, against NewtonGravity about a pinned central particle (round-off apart: 8e-14 m here)";
+
+    // Energy is conserved to the method's error (6e-16 J here, of -5e-4 J):
+    // the potential is -m μ / r.
+    EXPECT_LT(std::abs(world.energy() - World(model).energy()), 1e-13) << "J";
+}
+
+TEST(CentralGravity, CopiesDoNotAttractEachOther) {
+    // Three particles on different orbits about one centre move exactly as
+    // each moves alone (the same bits): no particle feels another.
+    const Vec3 r0[3] = {Vec3(1.0, 0.0, 0.0), Vec3(0.0, 0.5, 0.0), Vec3(-0.2, 0.0, 0.9)};
+    const Vec3 v0[3] = {Vec3(0.0, 1.1, 0.0), Vec3(-1.3, 0.0, 0.2), Vec3(0.0, 0.9, 0.1)};
+    ParticleModel swarm;
+    swarm.forces.push_back(CentralGravity{Vec3::Zero(), 1.0});
+    for (int k = 0; k < 3; ++k) swarm.particles.push_back({r0[k], v0[k], 1.0 + k, false});
+    World all(swarm);
+    problems::run_to(all, Integrator::velocity_verlet, 2.0, 1e-3);
+    for (int k = 0; k < 3; ++k) {
+        ParticleModel lone;
+        lone.forces = swarm.forces;
+        lone.particles.push_back(swarm.particles[k]);
+        World alone(lone);
+        problems::run_to(alone, Integrator::velocity_verlet, 2.0, 1e-3);
+        const Vec3 a = all.state().x.get(k), b = alone.state().x.get(0);
+        EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * 3), 0)
+            << "particle " << k << " in the swarm at " << a.transpose() << " m, alone at " << b.transpose() << " m";
+    }
+}
+
+TEST(CentralGravity, RefusesBadParameters) {
+    auto message_of = [](const CentralGravity& g) -> std::string {
+        try {
+            validate(g, 1);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_EQ(message_of({Vec3::Zero(), 0.0}), "central_gravity.mu must be > 0 and finite, in m³/s² (got 0)");
+    EXPECT_EQ(message_of({Vec3::Zero(), NAN}), "central_gravity.mu must be > 0 and finite, in m³/s² (got nan)");
+    EXPECT_EQ(message_of({Vec3(0.0, INFINITY, 0.0), 1.0}), "central_gravity.center must be finite, in m (got inf)");
+    EXPECT_EQ(message_of({Vec3(1.0, 2.0, 3.0), 1.0}), "");
+}
+
+}  // namespace
+}  // namespace sim
