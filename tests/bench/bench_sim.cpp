@@ -168,6 +168,19 @@ void hand_loop(HandCloud& c, Body body, std::vector<double>* memory = nullptr) {
                        c.m.data(), c.inv_m.data(), c.size(), body);
 }
 
+// The methods that keep memory (leapfrog and velocity Verlet the
+// acceleration, Störmer the previous position): step(p, first), first a
+// std::bool_constant, true on the step that must build the memory.
+template <class Step>
+void hand_loop_keeping(HandCloud& c, std::vector<double>* memory, Step step) {
+    if (c.memory) {
+        hand_loop<true>(c, [&](Hand& p) { step(p, std::false_type{}); }, memory);
+    } else {
+        hand_loop<true>(c, [&](Hand& p) { step(p, std::true_type{}); }, memory);
+    }
+    c.memory = true;
+}
+
 void hand_forward_euler(HandCloud& c, double h) {
     hand_loop(c, [h](Hand& p) {
         double ax, ay, az;
@@ -195,12 +208,7 @@ void hand_leapfrog(HandCloud& c, double h) {
         p.accel(p.vx, p.vy, p.vz, p.mx, p.my, p.mz);
         p.vx += 0.5 * h * p.mx, p.vy += 0.5 * h * p.my, p.vz += 0.5 * h * p.mz;
     };
-    if (c.memory) {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::false_type{}); }, c.a);
-    } else {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::true_type{}); }, c.a);
-    }
-    c.memory = true;
+    hand_loop_keeping(c, c.a, step);
 }
 
 void hand_velocity_verlet(HandCloud& c, double h) {
@@ -215,12 +223,7 @@ void hand_velocity_verlet(HandCloud& c, double h) {
         p.vx += 0.5 * h * (p.mx + nx), p.vy += 0.5 * h * (p.my + ny), p.vz += 0.5 * h * (p.mz + nz);
         p.mx = nx, p.my = ny, p.mz = nz;
     };
-    if (c.memory) {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::false_type{}); }, c.a);
-    } else {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::true_type{}); }, c.a);
-    }
-    c.memory = true;
+    hand_loop_keeping(c, c.a, step);
 }
 
 // Störmer: x' = 2x - x_prev + h² a, v' = (x' - x)/h + h a / 2, per coordinate.
@@ -240,12 +243,7 @@ void hand_position_verlet(HandCloud& c, double h) {
         stormer(p.y, p.vy, p.my, ay, h, first);
         stormer(p.z, p.vz, p.mz, az, h, first);
     };
-    if (c.memory) {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::false_type{}); }, c.prev);
-    } else {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::true_type{}); }, c.prev);
-    }
-    c.memory = true;
+    hand_loop_keeping(c, c.prev, step);
 }
 
 void hand_rk4(HandCloud& c, double h) {
