@@ -29,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One run of the quick report (the whole of it, about 17 s), then what it says.
+// One run of the quick report (the whole of it, about 30 s here), then what it says.
 TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
     const fs::path dir = fs::temp_directory_path() / ("plausible-report-test-" + std::to_string(getpid()));
     fs::remove_all(dir);
