@@ -206,14 +206,16 @@ for k in 1 2 3; do xdotool key Right; sleep 0.05; done
 // Dear ImGui 1.86 lays the panel out in a 1280x720 window: "Scene
 // parameters", then colliders[0].radius's slider (Ctrl+click types a value;
 // Return is held, as ImGui 1.86 misses a press and release in one frame).
-// The typing waits a second for the field to take the keys: on a loaded
-// machine the '.' of "0.3" once reached the viewer first, as its step key
-// (frame 61 for 60 presses of Right).
+// Each action waits for the panel to be drawn again (seconds: a sanitized or
+// loaded viewer draws slowly): on such a machine the ctrl+click once landed
+// before the opened section was laid out, so the field never took the keys
+// and the '.' of "0.3" reached the viewer as its step key (the default cloth
+// at frame 61 for 60 presses of Right).
 TEST_F(View, APanelSliderRebuildsTheSceneWithItsValue) {
     const Ran r = drive("cloth", "--size 1280x720", R"(
-xdotool mousemove --window "$win" 960 284 click 1; sleep 0.5
-xdotool mousemove --window "$win" 980 498; sleep 0.2
-xdotool keydown ctrl; sleep 0.1; xdotool click 1; sleep 0.1; xdotool keyup ctrl; sleep 1
+xdotool mousemove --window "$win" 960 284 click 1; sleep 2
+xdotool mousemove --window "$win" 980 498; sleep 1
+xdotool keydown ctrl; sleep 0.2; xdotool click 1; sleep 0.2; xdotool keyup ctrl; sleep 1
 xdotool key ctrl+a; sleep 0.3; xdotool type "0.3"; sleep 0.1
 xdotool keydown Return; sleep 0.15; xdotool keyup Return; sleep 0.5
 for k in $(seq 60); do xdotool key Right; sleep 0.02; done
