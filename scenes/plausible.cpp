@@ -238,7 +238,8 @@ int run_scene(const SceneOptions& options, const RunOutput& output) {
                                          : scene.particle_names[g.particle];
             std::printf("  accuracy  %s is %.3e m from the %s closed form\n", who.c_str(), *error, g.solution.c_str());
         }
-        std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(), ms(times.total));
+        std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(),
+                    ms(times.total));
         bool first = true;
         for (const auto& [system, v] : per_system.items()) {
             if (system == "total") continue;

@@ -657,7 +657,7 @@ SceneCost scene_cost(const std::string& name, render::Renderer& renderer, bool q
     c.exploded = run.verdict().exploded();
     c.steps_per_frame = (1.0 / 30.0) / scene.step.dt;
     const double to_ms = 1e3 * c.steps_per_frame / c.frames;  // s over the run -> ms per 30 FPS frame
-    const auto& t = run.world().times();  // sampled frames (World::SystemTimes)
+    const auto& t = run.world().times();                      // sampled frames (World::SystemTimes)
     for (const std::string& system : scene.systems()) {
         const double v = system == "particles"     ? t.particles
                          : system == "constraints" ? t.constraints

@@ -55,8 +55,7 @@ public:
     // f(t, x, v) and its Jacobians for the same block, for implicit methods.
     // jac arrives empty; its indices are local to the block.
     virtual void force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
-                                     const Vec3Span& f,
-                                     Jacobians& jac) = 0;
+                                     const Vec3Span& f, Jacobians& jac) = 0;
 
     // Masses of the whole system, kg, and inverse masses, 1/kg (0 = pinned).
     virtual const double* mass() const = 0;

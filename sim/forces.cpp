@@ -158,9 +158,8 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }
 
-void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x,
-                                         const ConstVec3Span& v, const Vec3Span& f,
-                                         Jacobians& jac) {
+void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                                         const Vec3Span& f, Jacobians& jac) {
     const ForceInput in = input(t, first, x, v);
     sum_forces(in, f);
     for (const ForceDef& force : *forces_) {

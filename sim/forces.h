@@ -40,8 +40,7 @@ public:
     void acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                       const Vec3Span& a) override;
     void force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
-                             const Vec3Span& f,
-                             Jacobians& jac) override;
+                             const Vec3Span& f, Jacobians& jac) override;
     const double* mass() const override { return mass_->data(); }
     const double* inv_mass() const override { return inv_mass_->data(); }
     const UniformField* uniform_field() const override { return others_.empty() && has_field_ ? &field_ : nullptr; }

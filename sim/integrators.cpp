@@ -66,11 +66,10 @@ void kick_drift_loop(double* __restrict x0, double* __restrict x1, double* __res
 
 // Velocity Verlet's first half: the predicted velocity w = v + h a, the
 // drift x += h v + (h²/2) a, the kick v += (h/2) a.
-void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2,
-                            double* __restrict v0, double* __restrict v1, double* __restrict v2,
-                            const double* __restrict a0, const double* __restrict a1, const double* __restrict a2,
-                            double* __restrict w0, double* __restrict w1, double* __restrict w2, std::size_t n,
-                            double h) {
+void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
+                            double* __restrict v1, double* __restrict v2, const double* __restrict a0,
+                            const double* __restrict a1, const double* __restrict a2, double* __restrict w0,
+                            double* __restrict w1, double* __restrict w2, std::size_t n, double h) {
     for (std::size_t i = 0; i < n; ++i) {
         w0[i] = v0[i] + h * a0[i], w1[i] = v1[i] + h * a1[i], w2[i] = v2[i] + h * a2[i];
         x0[i] += h * v0[i] + 0.5 * h * h * a0[i];
@@ -120,8 +119,8 @@ struct FieldAcceleration {
 template <bool kQuadratic, bool kMemory, bool kFresh, class Rule>
 void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                 double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
-                double* __restrict m2, const double* __restrict mass, const double* __restrict inv_mass,
-                std::size_t n, const UniformField& field, Rule rule) {
+                double* __restrict m2, const double* __restrict mass, const double* __restrict inv_mass, std::size_t n,
+                const UniformField& field, Rule rule) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c, c2 = field.c2;
     for (std::size_t i = 0; i < n; ++i) {
         P3 x{x0[i], x1[i], x2[i]};
@@ -194,10 +193,10 @@ bool fused_field_pass(Dynamics& dynamics, const StepArrays& s, Vec3Span memory, 
     const bool quadratic = field->c2 != 0.0;
     if (memory.n == 0) {
         (quadratic ? field_loop_for<true, false, Rule> : field_loop_for<false, false, Rule>)(fresh, s, memory, mass,
-                                                                                           inv_mass, *field, rule);
+                                                                                             inv_mass, *field, rule);
     } else {
         (quadratic ? field_loop_for<true, true, Rule> : field_loop_for<false, true, Rule>)(fresh, s, memory, mass,
-                                                                                         inv_mass, *field, rule);
+                                                                                           inv_mass, *field, rule);
     }
     dynamics.count_evaluations(static_cast<std::size_t>(evaluations) * s.x.n);
     return true;
@@ -272,8 +271,7 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    kick_drift_loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n,
-                    h);
+    kick_drift_loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
     dynamics.acceleration(t + h, s.first, s.x, s.v, s.a);
     axpy(s.v, 0.5 * h, s.a);
 }
@@ -442,7 +440,8 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
         ((array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{}),
           dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_x, stage_v[I], stage_a[I])),
          ...);
-    }(std::make_index_sequence<S>{});
+    }
+    (std::make_index_sequence<S>{});
     auto point = [&](int k, std::size_t p) {
         double X = s.x.c[k][p], V = s.v.c[k][p];
 #pragma GCC unroll 8
@@ -491,10 +490,9 @@ namespace {
 // (its diagonal is the triplets' sum h c + m; LDLᵀ of a diagonal matrix
 // solves by the inverse, Δv = (1/d) · h f), so with the same bits (tested)
 // and without assembling and factoring a 3n x 3n matrix.
-void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2,
-                             double* __restrict v0, double* __restrict v1, double* __restrict v2,
-                             const double* __restrict mass, const double* __restrict inv_mass, std::size_t n,
-                             const UniformField& field, double h) {
+void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
+                             double* __restrict v1, double* __restrict v2, const double* __restrict mass,
+                             const double* __restrict inv_mass, std::size_t n, const UniformField& field, double h) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c;
     for (std::size_t i = 0; i < n; ++i) {
         const FieldForce f = field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
@@ -518,8 +516,8 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
         field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
-        backward_euler_diagonal(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2],
-                                dynamics.mass() + s.first, dynamics.inv_mass() + s.first, n, *field, h);
+        backward_euler_diagonal(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], dynamics.mass() + s.first,
+                                dynamics.inv_mass() + s.first, n, *field, h);
         dynamics.count_evaluations(n);
         return;
     }

@@ -102,12 +102,12 @@ SuspectLoop suspect_pass() {
     static const SuspectLoop pass = [] {
 #if defined(__x86_64__) && defined(__GNUC__)
         __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx2")) return &suspects_avx2<const double*, const double*, const double*,
-                                                                   const double*, const double*, const double*,
-                                                                   std::size_t, double, double>;
+        if (__builtin_cpu_supports("avx2"))
+            return &suspects_avx2<const double*, const double*, const double*, const double*, const double*,
+                                  const double*, std::size_t, double, double>;
 #endif
-        return &suspects_base<const double*, const double*, const double*, const double*, const double*,
-                              const double*, std::size_t, double, double>;
+        return &suspects_base<const double*, const double*, const double*, const double*, const double*, const double*,
+                              std::size_t, double, double>;
     }();
     return pass;
 }

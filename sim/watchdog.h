@@ -62,8 +62,7 @@ struct Verdict {
 // The per-particle rules for one particle at x, v: true when a coordinate is
 // not finite, the speed² is above max_speed2 or a coordinate is beyond ±box.
 // (NaN fails every comparison, so !(a <= b) catches it.)
-inline bool is_suspect(double x, double y, double z, double vx, double vy, double vz, double max_speed2,
-                       double box) {
+inline bool is_suspect(double x, double y, double z, double vx, double vy, double vz, double max_speed2, double box) {
     const double speed2 = vx * vx + vy * vy + vz * vz;
     return !(speed2 <= max_speed2) | !(std::abs(x) <= box) | !(std::abs(y) <= box) | !(std::abs(z) <= box);
 }

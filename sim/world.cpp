@@ -20,13 +20,11 @@ void validate(const ParticleModel& model) {
     for (std::size_t k = 0; k < model.emitters.size(); ++k) validate(model.emitters[k], model.particles.size(), k);
 }
 
-void validate(const StepSettings& settings) {
+void refuse_step_settings(const StepSettings& settings) {
     if (!(settings.dt > 0.0) || !std::isfinite(settings.dt)) {
         throw InputError("dt must be > 0 and finite, in s (got " + format_value(settings.dt) + ")");
     }
-    if (settings.substeps < 1) {
-        throw InputError("substeps must be >= 1 (got " + std::to_string(settings.substeps) + ")");
-    }
+    throw InputError("substeps must be >= 1 (got " + std::to_string(settings.substeps) + ")");
 }
 
 namespace {
@@ -213,6 +211,11 @@ public:
         last_ = now;
         ++reads_;
     }
+    // Ends the frame with a last read (after the last stage, nothing is timed).
+    void finish() {
+        last_ = Clock::now();
+        ++reads_;
+    }
     // The whole frame, s (less the reads inside it), and what the reads cost, s.
     double elapsed() const {
         return std::max(0.0, std::chrono::duration<double>(last_ - start_).count() - reads_ * read_cost_);
@@ -233,7 +236,7 @@ struct NoClock {
 }  // namespace
 
 void World::step(const StepSettings& settings) {
-    if (!(settings.dt > 0.0) || !std::isfinite(settings.dt) || settings.substeps < 1) validate(settings);  // throws
+    validate(settings);
     if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
     ++frames_;
     if (frames_ < next_sample_) {
@@ -244,8 +247,7 @@ void World::step(const StepSettings& settings) {
     const std::uint64_t steps_before = steps_;
     FrameClock laps;
     run_substeps(settings, laps);
-    double rest = 0.0;  // s, after the last stage: nothing measurable, but the frame ends with a read
-    laps.lap(rest);
+    laps.finish();
     times_.total += laps.elapsed();
     timer_cost_ += laps.cost();
     ++times_.sampled_frames;
@@ -423,14 +425,14 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     for (std::size_t first = 0; first < n; first += block) {
         const std::size_t count = std::min(block, n - first);
         // Every member given (no zeroing first: this runs every substep).
-        const StepArrays s{first,
-                           state_.x.span().block(first, count),
-                           state_.v.span().block(first, count),
-                           info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
-                           info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count)
-                                                                    : Vec3Span{},
-                           memory_valid_,
-                           scratch_.data()};
+        const StepArrays s{
+            first,
+            state_.x.span().block(first, count),
+            state_.v.span().block(first, count),
+            info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
+            info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
+            memory_valid_,
+            scratch_.data()};
         info.step(forces_, s, state_.t, h);
         // The watchdog's per-particle rules while the block is still in cache.
         if (watch_blocks) suspects += count_suspects(watchdog_, s.x, s.v);

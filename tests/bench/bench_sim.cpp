@@ -108,8 +108,8 @@ void world_cloud(benchmark::State& state, sim::Integrator id, bool watchdog) {
 // The cloud as a student would write it: separate coordinate arrays.
 struct HandCloud {
     std::vector<double> x, y, z, vx, vy, vz, m, inv_m;  // m, m/s, kg, 1/kg
-    std::vector<double> a[3];     // m/s², the acceleration kept by leapfrog and velocity Verlet
-    std::vector<double> prev[3];  // m, the previous position (Störmer-Verlet)
+    std::vector<double> a[3];                           // m/s², the acceleration kept by leapfrog and velocity Verlet
+    std::vector<double> prev[3];                        // m, the previous position (Störmer-Verlet)
     bool memory = false;                                // ax.. or px.. hold the last step's values
     std::size_t size() const { return x.size(); }
 };
@@ -174,9 +174,11 @@ void hand_loop(HandCloud& c, Body body, std::vector<double>* memory = nullptr) {
 template <class Step>
 void hand_loop_keeping(HandCloud& c, std::vector<double>* memory, Step step) {
     if (c.memory) {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::false_type{}); }, memory);
+        hand_loop<true>(
+            c, [&](Hand& p) { step(p, std::false_type{}); }, memory);
     } else {
-        hand_loop<true>(c, [&](Hand& p) { step(p, std::true_type{}); }, memory);
+        hand_loop<true>(
+            c, [&](Hand& p) { step(p, std::true_type{}); }, memory);
     }
     c.memory = true;
 }
@@ -327,9 +329,8 @@ void fixed_cost(benchmark::State& state, sim::Integrator id) {
         benchmark::ClobberMemory();
     }
     if (!bench::still_running(state, world, state.iterations(), "oscillator")) return;
-    state.counters["per_step"] =
-        benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate |
-                                                                        benchmark::Counter::kInvert);
+    state.counters["per_step"] = benchmark::Counter(static_cast<double>(state.iterations()),
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 // --- the ratio table --------------------------------------------------------------------
@@ -351,9 +352,10 @@ public:
     }
 
     void print_ratios(const std::vector<std::size_t>& sizes) const {
-        print_table("The particles stage (World, watchdog off) / hand-written loop, per particle-step\n"
-                    "(target <= 1.1 at N >= 1e5; at N = 1 it is the fixed cost of a step):",
-                    "stage/", sizes);
+        print_table(
+            "The particles stage (World, watchdog off) / hand-written loop, per particle-step\n"
+            "(target <= 1.1 at N >= 1e5; at N = 1 it is the fixed cost of a step):",
+            "stage/", sizes);
         print_table("The whole step (World, watchdog on) / hand-written loop (target <= 1.5 at N >= 1e5):", "world/",
                     sizes);
         std::printf("%-18s", "rk4 / sympl. Euler");  // target <= 4.5: four force evaluations to one

@@ -41,10 +41,9 @@ TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
     const nlohmann::json json = nlohmann::json::parse(f);
 
     // The files.
-    for (const char* name :
-         {"report.md", "report.json", "work_precision.csv", "orders.csv", "stability.csv",
-          "work_precision_oscillator.png", "error_vs_dt_kepler_e0.9.png", "energy.png", "stability.png",
-          "growth.csv", "growth.png"}) {
+    for (const char* name : {"report.md", "report.json", "work_precision.csv", "orders.csv", "stability.csv",
+                             "work_precision_oscillator.png", "error_vs_dt_kepler_e0.9.png", "energy.png",
+                             "stability.png", "growth.csv", "growth.png"}) {
         const fs::path p = dir / "report" / name;
         ASSERT_TRUE(fs::exists(p)) << p;
         EXPECT_GT(fs::file_size(p), 100u) << p;
