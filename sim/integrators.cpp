@@ -413,6 +413,15 @@ void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v,
     }
 }
 
+// Stage i's row of a is all zeros: X_i = x, V_i = v.
+template <const auto& kTableau>
+constexpr bool stage_is_state(std::size_t i) {
+    for (std::size_t j = 0; j < i; ++j) {
+        if (kTableau.a[i][j] != 0.0) return false;
+    }
+    return true;
+}
+
 // For y = (x, v) and y' = (v, a(t, x, v)), stage i is
 //   X_i = x + h Σ_j a_ij V_j,   V_i = v + h Σ_j a_ij A_j,   A_i = a(t + c_i h, X_i, V_i)
 // and the step x' = x + h Σ b_i V_i, v' = v + h Σ b_i A_i. Sums run in j
@@ -431,14 +440,20 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     Vec3Span stage_v[S];
     Vec3Span stage_a[S];
     for (std::size_t i = 0; i < S; ++i) {
-        stage_v[i] = s.scratch(1 + i);
+        // A stage whose row of a is all zeros (the first) is the state itself:
+        // it is read where it is, not copied (a shorter chain of stores and
+        // loads, most of a few-particle step).
+        stage_v[i] = stage_is_state<kTableau>(i) ? s.v : s.scratch(1 + i);
         stage_a[i] = s.scratch(1 + S + i);
     }
     // Each stage, then the step, in one pass over the particles (the
     // tableau's zeros known at compile time).
     [&]<std::size_t... I>(std::index_sequence<I...>) {
-        ((array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{}),
-          dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_x, stage_v[I], stage_a[I])),
+        (((stage_is_state<kTableau>(I)
+               ? void()
+               : array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{})),
+          dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_is_state<kTableau>(I) ? s.x : stage_x, stage_v[I],
+                                stage_a[I])),
          ...);
     }
     (std::make_index_sequence<S>{});

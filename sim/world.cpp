@@ -406,12 +406,16 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     if (memory_integrator_ != integrator || memory_h_ != h) {
         memory_valid_ = false;
     }
-    // Scratch is allocated for the largest block the method will see.
+    // Scratch is allocated for the largest block the method will see (the
+    // arrays below scratch_arrays_ already hold scratch_block_ particles).
     const std::size_t block = forces_.all_local() ? std::min(n, kBlock) : n;
-    for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
-        if (scratch_[i].size() < block) {
-            scratch_[i].resize(block);
+    if (info.scratch_arrays > scratch_arrays_ || block > scratch_block_) {
+        for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
+            if (scratch_[i].size() < block) scratch_[i].resize(block);
         }
+        scratch_arrays_ = std::max(scratch_arrays_, info.scratch_arrays);
+        scratch_block_ = std::max(scratch_block_, block);
+        for (std::size_t i = 0; i < scratch_arrays_; ++i) scratch_block_ = std::min(scratch_block_, scratch_[i].size());
     }
     // Integrator memory is allocated the first time a method that keeps it runs.
     Vec3Array* memory = info.memory == Memory::acceleration        ? &memory_a_
