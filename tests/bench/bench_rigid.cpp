@@ -17,7 +17,7 @@
 // Each iteration builds a fresh world (not timed) and times 120 steps, so
 // every iteration measures the same 2 s of the same simulation.
 #include "bench_world.h"
-#include "scenes/scene.h"
+#include "scenes/model/scene.h"
 #include "sim/ragdoll.h"
 #include "sim/rigid.h"
 #include "sim/world.h"

@@ -5,8 +5,8 @@
 // video (30 frames) to a temporary folder; the figure to read is `fps`, with
 // the per-frame physics and rendering times beside it (ffmpeg's encoding runs
 // in its own threads, overlapping the rendering).
-#include "scenes/scene.h"
-#include "scenes/video.h"
+#include "scenes/model/scene.h"
+#include "scenes/video/video.h"
 
 #include <benchmark/benchmark.h>
 

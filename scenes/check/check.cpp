@@ -1,0 +1,245 @@
+#include "scenes/check/check.h"
+
+#include "render/font.h"
+#include "scenes/draw/scene_run.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+namespace scenes {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string format_time(double t) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f s", t);
+    return text;
+}
+
+json fingerprint_json(const render::Fingerprint& f) {
+    return json{{"backend", f.backend},  {"vendor", f.vendor},     {"renderer", f.renderer},
+                {"version", f.version},  {"cpu_simd", f.cpu_simd}, {"gl_threads", f.gl_threads},
+                {"summary", f.summary()}};
+}
+
+// The thresholds a golden file asks for, or the defaults. Thresholds other
+// than the defaults need a "thresholds_reason": a looser metric is a decision
+// someone has to be able to read later.
+render::GoldenThresholds thresholds_from(const json& golden, const fs::path& file) {
+    render::GoldenThresholds t;
+    if (!golden.contains("thresholds")) return t;
+    try {
+        const json& j = golden.at("thresholds");
+        t.small_max_d = j.value("small_max_d", t.small_max_d);
+        t.small_share = j.value("small_share", t.small_share);
+        t.large_share = j.value("large_share", t.large_share);
+        render::validate(t);
+    } catch (const std::exception& e) {
+        throw SceneError(file.string() + ": thresholds: " + e.what());
+    }
+    const render::GoldenThresholds defaults;
+    const bool custom = t.small_max_d != defaults.small_max_d || t.small_share != defaults.small_share ||
+                        t.large_share != defaults.large_share;
+    const bool has_reason = golden.contains("thresholds_reason") && golden["thresholds_reason"].is_string() &&
+                            !golden["thresholds_reason"].get<std::string>().empty();
+    if (custom && !has_reason) {
+        throw SceneError(file.string() +
+                         ": thresholds differ from the defaults (small_max_d 3, small_share 0.05, large_share "
+                         "0.0001) but \"thresholds_reason\" is missing: say why this scene needs them");
+    }
+    return t;
+}
+
+void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::Fingerprint& fingerprint,
+                  const fs::path& dir, const json& previous) {
+    fs::create_directories(dir);
+    json checkpoints = json::array();
+    for (std::size_t i = 0; i < strip.frames.size(); ++i) {
+        checkpoints.push_back({{"frame", strip.frames[i]}, {"time", strip.times[i]}, {"state_hash", strip.hashes[i]}});
+    }
+    const render::GoldenThresholds defaults;
+    json thresholds = previous.contains("thresholds") ? previous["thresholds"]
+                                                      : json{{"small_max_d", defaults.small_max_d},
+                                                             {"small_share", defaults.small_share},
+                                                             {"large_share", defaults.large_share}};
+    json golden = {{"scene", scene.name},
+                   {"integrator", std::string(sim::integrator_info(scene.step.integrator).name)},
+                   {"dt", scene.step.dt},
+                   {"substeps", scene.step.substeps},
+                   {"tile", {strip.image.width > 0 ? 320 : 0, 240}},
+                   {"checkpoints", checkpoints},
+                   {"thresholds", thresholds},
+                   {"fingerprint", fingerprint_json(fingerprint)}};
+    if (previous.contains("thresholds_reason")) golden["thresholds_reason"] = previous["thresholds_reason"];
+    render::write_png(dir / (scene.name + ".png"), strip.image);
+    render::write_file_atomically(dir / (scene.name + ".json"), golden.dump(2) + "\n");
+}
+
+}  // namespace
+
+fs::path default_golden_dir() { return fs::path(PLAUSIBLE_SOURCE_DIR) / "golden"; }
+
+Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, const FilmstripSettings& settings) {
+    Filmstrip strip;
+    SceneRun run(scene);
+    std::vector<render::Image> tiles;
+    std::vector<std::string> labels;
+    const render::RenderSettings render_settings{
+        .width = settings.width, .height = settings.height, .msaa_samples = settings.msaa};
+    for (int checkpoint : scene.checkpoints) {
+        while (run.frame() < checkpoint && run.advance()) {
+        }
+        tiles.push_back(renderer.render(run.draw_list(settings.width, settings.height), render_settings));
+        strip.frames.push_back(run.frame());
+        strip.times.push_back(run.time());
+        strip.hashes.push_back(run.state_hash_hex());
+        if (run.verdict().exploded()) {
+            labels.push_back("frame " + std::to_string(run.frame()) + ": EXPLODED");
+            break;
+        }
+        labels.push_back("frame " + std::to_string(run.frame()) + " · " + format_time(run.time()));
+    }
+    // Checkpoints after an explosion: dark tiles, so the strip keeps the
+    // golden's layout and the diff shows where the run stopped.
+    for (std::size_t i = tiles.size(); i < scene.checkpoints.size(); ++i) {
+        render::Image tile = render::make_image(settings.width, settings.height, 3, render::Rgba8{60, 20, 20, 255});
+        render::draw_text(tile, render::Font::default_font(), "not reached", 10.0f, 10.0f, 16.0f,
+                          render::Rgba8{240, 200, 200, 255});
+        tiles.push_back(std::move(tile));
+        labels.push_back("frame " + std::to_string(scene.checkpoints[i]) + ": not reached");
+    }
+    strip.verdict = run.verdict();
+    strip.image = render::contact_sheet(tiles, labels, render::Font::default_font());
+    return strip;
+}
+
+std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, const std::vector<Override>& overrides,
+                                     const CheckOptions& options, render::Renderer& renderer,
+                                     const render::Fingerprint& fingerprint) {
+    const fs::path golden_dir = options.golden_dir.empty() ? default_golden_dir() : options.golden_dir;
+    const fs::path report_dir = options.report_dir.empty() ? fs::path("out/check") : options.report_dir;
+    fs::create_directories(report_dir);
+    std::vector<SceneCheck> results;
+    for (const std::string& name : names) {
+        const auto start = std::chrono::steady_clock::now();
+        SceneCheck c;
+        c.scene = name;
+        c.fingerprint_actual = fingerprint.summary();
+        // Images of a failure go to <report>/<scene>/; paths in the report are relative to it.
+        auto keep = [&](const std::string& file, const render::Image& image) {
+            fs::create_directories(report_dir / c.scene);
+            render::write_png(report_dir / c.scene / file, image);
+            return c.scene + "/" + file;
+        };
+        try {
+            const SceneDef scene = load_scene(resolve_scene(name), overrides);
+            c.scene = scene.name;
+            const Filmstrip strip = render_filmstrip(scene, renderer);
+            const fs::path golden_png = golden_dir / (scene.name + ".png");
+            const fs::path golden_json = golden_dir / (scene.name + ".json");
+            const bool have_golden = fs::exists(golden_png) && fs::exists(golden_json);
+            json previous = json::object();
+            if (have_golden) {
+                try {
+                    std::ifstream in(golden_json);
+                    previous = json::parse(in);
+                } catch (const json::exception& e) {
+                    throw SceneError(golden_json.string() + ": not valid JSON: " + e.what());
+                }
+            }
+            const json expected_checkpoints = previous.value("checkpoints", json::array());
+            for (std::size_t i = 0; i < strip.frames.size(); ++i) {
+                CheckpointHash h;
+                h.frame = strip.frames[i];
+                h.actual = strip.hashes[i];
+                if (i < expected_checkpoints.size()) {
+                    const json& e = expected_checkpoints[i];
+                    h.expected = e.value("frame", -1) == h.frame ? e.value("state_hash", "")
+                                                                 : "frame " + std::to_string(e.value("frame", -1));
+                }
+                if (c.first_hash_mismatch < 0 && h.expected != h.actual) c.first_hash_mismatch = static_cast<int>(i);
+                c.hashes.push_back(h);
+            }
+            if (c.first_hash_mismatch < 0 && expected_checkpoints.size() != strip.frames.size()) {
+                c.first_hash_mismatch = static_cast<int>(std::min(expected_checkpoints.size(), strip.frames.size()));
+            }
+            if (previous.contains("fingerprint")) c.fingerprint_expected = previous["fingerprint"].value("summary", "");
+
+            if (strip.verdict.exploded()) {
+                c.status = SceneCheck::Status::exploded;
+                c.message = strip.verdict.message(scene.name);
+                c.actual_png = keep("actual.png", strip.image);
+                if (have_golden) {
+                    const render::Image expected = render::read_png(golden_png, 3);
+                    c.expected_png = keep("expected.png", expected);
+                    c.image = render::compare_golden(strip.image, expected, thresholds_from(previous, golden_json));
+                    if (!c.image->size_mismatch) {
+                        c.diff_png = keep("diff.png", c.image->diff);
+                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff,
+                                                                           render::Font::default_font()));
+                    }
+                }
+            } else if (!have_golden) {
+                if (options.update == UpdateMode::missing || options.update == UpdateMode::all) {
+                    write_golden(scene, strip, fingerprint, golden_dir, previous);
+                    c.status = SceneCheck::Status::updated;
+                    c.message = "golden written: " + golden_png.string();
+                } else {
+                    c.status = SceneCheck::Status::missing;
+                    c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
+                    c.actual_png = keep("actual.png", strip.image);
+                }
+            } else {
+                const render::Image expected = render::read_png(golden_png, 3);
+                c.image = render::compare_golden(strip.image, expected, thresholds_from(previous, golden_json));
+                const bool physics_same = c.first_hash_mismatch < 0;
+                const bool pass = c.image->pass && physics_same;
+                if (physics_same) {
+                    c.message = c.image->pass ? "image " + c.image->summary + ", state hashes identical"
+                                              : "rendering changed, physics identical: " + c.image->summary;
+                } else {
+                    const int i = c.first_hash_mismatch;
+                    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+                    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " +
+                                std::to_string(frame) + "): state hash differs; image " + c.image->summary;
+                }
+                if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
+                    c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
+                }
+                if (options.update == UpdateMode::all || (!pass && options.update == UpdateMode::changed)) {
+                    write_golden(scene, strip, fingerprint, golden_dir, previous);
+                    c.status = SceneCheck::Status::updated;
+                    c.message = "golden rewritten (" + c.message + ")";
+                } else if (pass) {
+                    c.status = SceneCheck::Status::pass;
+                } else {
+                    c.status = SceneCheck::Status::fail;
+                    c.expected_png = keep("expected.png", expected);
+                    c.actual_png = keep("actual.png", strip.image);
+                    if (!c.image->size_mismatch) {
+                        c.diff_png = keep("diff.png", c.image->diff);
+                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff,
+                                                                           render::Font::default_font()));
+                    }
+                }
+            }
+        } catch (const sim::InputError& e) {
+            c.status = SceneCheck::Status::error;
+            c.message = e.what();
+        } catch (const render::RenderError& e) {
+            c.status = SceneCheck::Status::error;
+            c.message = e.what();
+        }
+        c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        results.push_back(std::move(c));
+    }
+    write_check_report(report_dir, results);
+    return results;
+}
+
+}  // namespace scenes

@@ -1,0 +1,53 @@
+// Golden checks (DESIGN.md "Golden checks"): a scene's checkpoint frames
+// rendered off-screen as one filmstrip, compared with golden/<scene>.png, and
+// the state hash at each checkpoint compared with golden/<scene>.json.
+#pragma once
+
+#include "render/golden.h"
+#include "render/renderer.h"
+#include "scenes/check/check_report.h"
+#include "scenes/model/scene.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+// A scene's checkpoints, rendered and hashed.
+struct Filmstrip {
+    render::Image image;              // the contact sheet, one tile per checkpoint
+    std::vector<int> frames;          // the checkpoints reached
+    std::vector<double> times;        // s
+    std::vector<std::string> hashes;  // hex state hash at each
+    sim::Verdict verdict;             // exploded: the run stopped at verdict.frame
+};
+
+struct FilmstripSettings {
+    int width = 320;   // px per tile
+    int height = 240;  // px per tile
+    int msaa = 0;      // goldens: off
+};
+
+// Runs the scene from frame 0 and renders each checkpoint. When the watchdog
+// stops the run, the last tile is the frame where it did.
+Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, const FilmstripSettings& settings = {});
+
+enum class UpdateMode { none, missing, changed, all };
+
+struct CheckOptions {
+    UpdateMode update = UpdateMode::none;
+    std::filesystem::path golden_dir;  // golden/ of the source tree unless set
+    std::filesystem::path report_dir;  // out/check unless set
+};
+
+std::filesystem::path default_golden_dir();
+
+// Checks each scene (catalogue names or .toml paths), writes the report, and
+// returns the per-scene results. Golden files are written only as `update`
+// allows, never for an exploded scene.
+std::vector<SceneCheck> check_scenes(const std::vector<std::string>& scenes, const std::vector<Override>& overrides,
+                                     const CheckOptions& options, render::Renderer& renderer,
+                                     const render::Fingerprint& fingerprint);
+
+}  // namespace scenes

@@ -1,0 +1,76 @@
+// One run of a scene: a World built from the SceneDef (DESIGN.md rule 2), the
+// frame counter, what pictures need from the past (trails, the energy curve),
+// and the glue that turns it all into a render::DrawList (DESIGN.md rule 1:
+// sim knows nothing of rendering, render nothing of physics; this file knows
+// both). run, render, check, video and view all step scenes through it.
+#pragma once
+
+#include "render/draw_list.h"
+#include "scenes/model/scene.h"
+
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+class SceneRun {
+public:
+    // The description must outlive the run. The step settings start as the
+    // scene's; the viewer may change them between frames.
+    explicit SceneRun(const SceneDef& scene);
+
+    // One frame step (World::step). False once the watchdog has stopped the run.
+    bool advance();
+
+    const sim::StepSettings& step() const { return step_; }
+    void set_step(const sim::StepSettings& step);  // validates (InputError)
+
+    // Everything a frame needs to be shown again and stepped on from (the
+    // viewer's step back): the world's snapshot, the frame counter and the
+    // trails; the energy curve is cut back to the frame. The step settings
+    // stay as they are now (an integrator chosen since is kept).
+    struct Snapshot {
+        sim::World::Snapshot world;
+        int frame = 0;
+        std::vector<std::deque<render::Vec3>> trails;
+        std::size_t bytes() const;  // about what it holds, for a history's budget
+    };
+    Snapshot snapshot() const { return {world_.snapshot(), frame_, trails_}; }
+    void restore(const Snapshot& snapshot);
+    // Mouse drags and other direct edits.
+    sim::World& world_for_edit() { return world_; }
+
+    int frame() const { return frame_; }
+    double time() const { return world_.state().t; }  // s
+    const sim::World& world() const { return world_; }
+    const SceneDef& scene() const { return scene_; }
+    const sim::Verdict& verdict() const { return world_.verdict(); }
+    std::uint64_t state_hash() const;
+    std::string state_hash_hex() const;
+
+    // The picture now, for an image of width x height px (overlays are laid
+    // out in pixels).
+    render::DrawList draw_list(int width, int height) const;
+
+private:
+    void record();
+    double link_strain(std::uint32_t a, std::uint32_t b) const;  // (length - built length) / built length
+
+    const SceneDef& scene_;
+    sim::StepSettings step_;
+    sim::World world_;
+    int frame_ = 0;
+    std::vector<std::deque<render::Vec3>> trails_;  // per particle, oldest first (empty for pinned ones)
+    std::vector<render::Vec2> energy_;              // (t s, E J) per frame
+};
+
+// The model's look data (plain colours and camera) in render's types.
+render::Color render_color(const Color& c);
+render::Camera render_camera(const CameraDef& c);
+
+// "1/60 s" when dt is the reciprocal of a whole number, else "0.004 s".
+std::string format_dt(double dt);
+
+}  // namespace scenes

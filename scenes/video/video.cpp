@@ -1,0 +1,323 @@
+#include "scenes/video/video.h"
+
+#include "render/font.h"
+#include "render/gl_context.h"
+#include "render/renderer.h"
+#include "scenes/common/interrupt.h"
+#include "scenes/common/progress.h"
+#include "scenes/draw/scene_run.h"
+#include "sim/error.h"
+#include "sim/integrators.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace scenes {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+void validate(const VideoOptions& o) {
+    const std::string ext = o.output.extension().string();
+    if (ext != ".mp4" && ext != ".gif") {
+        throw sim::InputError("video: -o must end in .mp4 or .gif (got '" + o.output.string() + "')");
+    }
+    if (o.width < 16 || o.height < 16 || o.width > 7680 || o.height > 4320 || o.width % 2 != 0 || o.height % 2 != 0) {
+        throw sim::InputError(
+            "video: --size must be even, within 16x16 .. 7680x4320 (H.264 with yuv420p needs even "
+            "sides; got " +
+            std::to_string(o.width) + "x" + std::to_string(o.height) + ")");
+    }
+    if (o.fps < 1 || o.fps > 120)
+        throw sim::InputError("video: --fps must be within 1 .. 120 (got " + std::to_string(o.fps) + ")");
+    if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 3600.0) {
+        throw sim::InputError("video: --seconds must be within 0 .. 3600 (got " + sim::format_value(o.seconds) + ")");
+    }
+    if (o.compare.size() > 6) throw sim::InputError("video: --compare takes at most 6 tiles");
+    for (const std::string& name : o.compare) {
+        if (name.find('=') != std::string::npos) {
+            parse_override(name);  // a --set variant, KEY=VALUE (the scene's loader checks the rest)
+        } else if (!sim::integrator_from_name(name)) {
+            std::string known;
+            for (const auto& info : sim::kIntegrators) known += (known.empty() ? "" : ", ") + std::string(info.name);
+            throw sim::InputError("video: --compare: unknown integrator '" + name + "' (one of " + known +
+                                  "; or a --set variant KEY=VALUE)");
+        }
+    }
+    const fs::path dir = o.output.has_parent_path() ? o.output.parent_path() : fs::path(".");
+    if (!fs::is_directory(dir) || access(dir.c_str(), W_OK) != 0) {
+        throw sim::InputError("video: cannot write " + o.output.string() + ": " + dir.string() +
+                              " is not a writable folder");
+    }
+}
+
+// Copies `tile` into `frame` with its top-left corner at (x0, y0).
+void blit(render::Image& frame, const render::Image& tile, int x0, int y0) {
+    const std::size_t row = static_cast<std::size_t>(tile.width) * tile.channels;
+    for (int y = 0; y < tile.height; ++y) std::memcpy(frame.at(x0, y0 + y), tile.at(0, y), row);
+}
+
+std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
+    std::ostringstream c;
+    c << "ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt " << (channels == 4 ? "rgba" : "rgb24") << " -s "
+      << o.width << 'x' << o.height << " -r " << o.fps << " -i - ";
+    if (o.output.extension() == ".gif") {
+        // One palette for the whole clip, then an ordered (Bayer) dither: no crawling noise between frames.
+        c << "-vf \"split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3\" -f gif ";
+    } else {
+        c << "-c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 "
+             "-color_trc bt709 -color_range tv -movflags +faststart -f mp4 ";
+    }
+    c << "'" << temp.string() << "' 2> '" << log.string() << "'";
+    return c.str();
+}
+
+std::string read_all(const fs::path& path) {
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// `text` in lines of at most `width` px at text height `size` px (a glyph is
+// about 0.55 size wide on average), broken between words.
+std::vector<std::string> wrap(const std::string& text, float width, float size) {
+    const auto chars = static_cast<std::size_t>(std::max(10.0f, width / (0.55f * size)));
+    std::vector<std::string> lines;
+    std::istringstream words(text);
+    std::string line, word;
+    while (words >> word) {
+        if (!line.empty() && line.size() + 1 + word.size() > chars) {
+            lines.push_back(line);
+            line.clear();
+        }
+        line += (line.empty() ? "" : " ") + word;
+    }
+    if (!line.empty()) lines.push_back(line);
+    return lines;
+}
+
+// Side by side, plots of the same quantity share their axes (the energy of
+// forward Euler against symplectic Euler's on one scale: the lesson is the
+// difference), so each plot's range becomes the union over the tiles.
+void share_plot_ranges(std::vector<render::DrawList>& lists) {
+    if (lists.size() < 2) return;
+    std::map<std::string, std::array<float, 4>> range;  // title -> x min, x max, y min, y max
+    for (const render::DrawList& list : lists) {
+        for (const render::Plot& plot : list.plots) {
+            auto [it, fresh] =
+                range.try_emplace(plot.title, std::array<float, 4>{INFINITY, -INFINITY, INFINITY, -INFINITY});
+            auto& r = it->second;
+            for (const auto& series : plot.series) {
+                for (const render::Vec2& p : series.points) {
+                    if (!std::isfinite(p.x()) || !std::isfinite(p.y())) continue;
+                    r = {std::min(r[0], p.x()), std::max(r[1], p.x()), std::min(r[2], p.y()), std::max(r[3], p.y())};
+                }
+            }
+        }
+    }
+    for (render::DrawList& list : lists) {
+        for (render::Plot& plot : list.plots) {
+            const auto& r = range.at(plot.title);
+            if (!(r[3] > r[2])) continue;  // flat or empty: each fits its own
+            const float pad = 0.05f * (r[3] - r[2]);
+            plot.y_range = render::Vec2(r[2] - pad, r[3] + pad);
+            if (!plot.x_range && r[1] > r[0]) plot.x_range = render::Vec2(r[0], r[1]);
+        }
+    }
+}
+
+// The compare grid's free cells (3 tiles in a 2 x 2 grid): the scene's name,
+// its description and the integrators in tile order, drawn once.
+void title_card(render::Image& frame, const SceneDef& scene, const std::vector<std::string>& compare, int x0, int y0,
+                int w) {
+    const render::Font& font = render::Font::default_font();
+    const float size = std::max(12.0f, static_cast<float>(w) / 28.0f);  // px
+    const render::Rgba8 light{235, 235, 235, 255}, dim{170, 175, 185, 255};
+    const float left = static_cast<float>(x0) + size;
+    float y = static_cast<float>(y0) + size;
+    render::draw_text(frame, font, scene.name, left, y, 1.6f * size, light);
+    y += 2.6f * size;
+    // The description, wrapped to the cell.
+    for (const std::string& line : wrap(scene.description, static_cast<float>(w) - 2 * size, size)) {
+        render::draw_text(frame, font, line, left, y, size, dim);
+        y += 1.4f * size;
+    }
+    y += 2.4f * size;
+    std::string order = "Tiles: ";
+    for (std::size_t i = 0; i < compare.size(); ++i) order += (i ? ", " : "") + compare[i];
+    render::draw_text(frame, font, order, left, y, size, light);
+}
+
+}  // namespace
+
+VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
+    validate(options);
+    // One run per tile, each from its own description (a run holds a reference to it).
+    std::vector<std::unique_ptr<SceneDef>> defs;
+    if (options.compare.empty()) {
+        defs.push_back(std::make_unique<SceneDef>(scene));
+    } else {
+        for (const std::string& name : options.compare) {
+            std::vector<Override> with = overrides;
+            if (name.find('=') != std::string::npos) {
+                with.push_back(parse_override(name));
+            } else {
+                with.push_back({"step.integrator", "\"" + name + "\""});
+            }
+            try {
+                defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
+            } catch (const SceneError& e) {
+                throw sim::InputError("video: --compare " + name + ": " + e.what());
+            }
+        }
+    }
+    std::vector<std::unique_ptr<SceneRun>> runs;
+    for (const auto& d : defs) runs.push_back(std::make_unique<SceneRun>(*d));
+
+    // Tiles keep the video's aspect ratio (a scene's camera is framed for it):
+    // the grid that gives them the largest size, side by side on a tie.
+    const int n = static_cast<int>(runs.size());
+    const double aspect = static_cast<double>(options.width) / options.height;
+    int cols = 1, rows = n, tile_w = 0;
+    for (int c = n; c >= 1; --c) {
+        const int r = (n + c - 1) / c;
+        const int w = static_cast<int>(std::min(static_cast<double>(options.width) / c, options.height / r * aspect));
+        if (w > tile_w) cols = c, rows = r, tile_w = w;
+    }
+    tile_w &= ~1;
+    const int tile_h = static_cast<int>(tile_w / aspect) & ~1;
+    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
+    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
+    // The description as a caption for the first seconds, unless a compare
+    // grid's free cell shows it already.
+    const bool caption = options.caption && !scene.description.empty() && cols * rows == n;
+    const double caption_seconds = std::min(4.0, 0.4 * seconds);             // s of video
+    const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
+    std::string caption_text;  // the description wrapped to the tile, once
+    for (const std::string& line : wrap(scene.description, 0.9f * static_cast<float>(tile_w), 0.8f * text))
+        caption_text += (caption_text.empty() ? "" : "\n") + line;
+    const float caption_height =  // px, 1.25 lines of 0.8 text each
+        0.8f * text * 1.25f * static_cast<float>(std::count(caption_text.begin(), caption_text.end(), '\n') + 1);
+
+    const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
+    const std::string tag = ".tmp-" + std::to_string(getpid());
+    const fs::path temp = dir / ("." + options.output.filename().string() + tag);
+    const fs::path log = dir / ("." + options.output.filename().string() + tag + ".log");
+
+    const auto context = render::create_context({});
+    render::Renderer renderer(*context);
+    VideoStats stats;
+    const auto start = Clock::now();
+    std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
+    const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
+    FILE* pipe = nullptr;
+    render::Image frame;
+    Progress progress("video", options.progress, frames);
+    double physics = 0.0, render_time = 0.0;  // s
+    try {
+        for (int k = 0; k < frames; ++k) {
+            const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
+            const auto p0 = Clock::now();
+            for (auto& run : runs) {
+                const double dt = run->step().dt;
+                while (run->time() + dt <= t + 1e-9 && run->advance()) {
+                }
+            }
+            const auto p1 = Clock::now();
+            std::vector<render::DrawList> lists;
+            for (const auto& run : runs) lists.push_back(run->draw_list(tile_w, tile_h));
+            share_plot_ranges(lists);
+            for (int i = 0; i < n; ++i) {
+                render::DrawList& list = lists[static_cast<std::size_t>(i)];
+                const bool labelled = !options.compare.empty() &&
+                                      options.compare[static_cast<std::size_t>(i)].find('=') != std::string::npos;
+                if (labelled) {
+                    // A --set variant: the HUD shows integrator and dt, the label what else differs.
+                    list.texts.push_back(
+                        render::Text{"--set " + options.compare[static_cast<std::size_t>(i)],
+                                     render::Vec2(0.5f * text, static_cast<float>(tile_h) - 1.6f * text), 0.85f * text,
+                                     render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+                }
+                if (caption && t < caption_seconds) {
+                    // The first seconds say what the scene shows, across the bottom.
+                    list.texts.push_back(render::Text{
+                        caption_text,
+                        render::Vec2(0.5f * text,
+                                     static_cast<float>(tile_h) - caption_height - (labelled ? 2.2f : 0.8f) * text),
+                        0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+                }
+                const render::Image tile =
+                    renderer.render(list, {.width = tile_w, .height = tile_h, .msaa_samples = 4});
+                if (frame.pixels.empty()) {
+                    frame.width = options.width;
+                    frame.height = options.height;
+                    frame.channels = tile.channels;
+                    frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
+                    if (cols * rows > n) {  // the free cell after the last tile
+                        title_card(frame, scene, options.compare,
+                                   (n % cols) * tile_w + (options.width - cols * tile_w) / 2,
+                                   (n / cols) * tile_h + (options.height - rows * tile_h) / 2, tile_w);
+                    }
+                    pipe = popen(ffmpeg_command(options, frame.channels, temp, log).c_str(), "w");
+                    if (pipe == nullptr)
+                        throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+                }
+                blit(frame, tile, (i % cols) * tile_w + (options.width - cols * tile_w) / 2,
+                     (i / cols) * tile_h + (options.height - rows * tile_h) / 2);
+            }
+            const auto p2 = Clock::now();
+            physics += std::chrono::duration<double>(p1 - p0).count();
+            render_time += std::chrono::duration<double>(p2 - p1).count();
+            if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe) != frame.pixels.size()) {
+                // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
+                check_interrupt("video", "frame " + std::to_string(k));
+                throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
+                                         std::to_string(k) + ": " + read_all(log));
+            }
+            if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
+            char what[64];
+            std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
+                          (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
+            progress.step(what);
+        }
+        const int status = pclose(pipe);
+        pipe = nullptr;
+        if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("video", "the end", signal);
+        check_interrupt("video", "the end");
+        if (status != 0) {
+            throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
+                                     "): " + read_all(log));
+        }
+        std::error_code ec;
+        fs::rename(temp, options.output, ec);
+        if (ec) throw std::runtime_error("video: cannot write " + options.output.string() + ": " + ec.message());
+        fs::remove(log, ec);
+    } catch (...) {
+        if (pipe != nullptr) pclose(pipe);
+        std::error_code ec;
+        fs::remove(temp, ec);
+        fs::remove(log, ec);
+        throw;
+    }
+    stats.frames = frames;
+    stats.physics_ms = 1e3 * physics / frames;
+    stats.render_ms = 1e3 * render_time / frames;
+    stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return stats;
+}
+
+}  // namespace scenes

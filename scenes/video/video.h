@@ -1,0 +1,39 @@
+// `plausible video`: a scene rendered to MP4 (H.264) or GIF by piping raw
+// frames to the ffmpeg command. Physics and frame rate are independent (the
+// lecture: render at 30 FPS, step physics at 60 Hz): frame k shows the state
+// at the last physics step not after k / fps, the usual fixed-step
+// accumulator. --compare runs the same scene under several integrators (or
+// --set variants) in lock step, side by side in tiles labelled by their HUD.
+#pragma once
+
+#include "scenes/model/scene.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+struct VideoOptions {
+    std::filesystem::path output;      // .mp4 or .gif
+    int width = 1280, height = 720;    // px, even
+    int fps = 30;                      // frames per second of video, 1 .. 120
+    double seconds = 0.0;              // of simulated time; 0: the scene's length
+    std::vector<std::string> compare;  // one tile each: an integrator name or a --set variant KEY=VALUE
+    bool progress = false;             // a progress bar with frames/s and ETA on stderr
+    bool caption = true;               // the scene's description across the bottom for the first seconds
+};
+
+struct VideoStats {
+    int frames = 0;
+    double render_ms = 0.0;   // per frame, all tiles
+    double physics_ms = 0.0;  // per frame, all tiles
+    double seconds = 0.0;     // wall time of the whole video
+};
+
+// Writes options.output whole or not at all. Throws sim::InputError for bad
+// options (odd size, unknown integrator, an unwritable path, a wrong
+// extension), std::runtime_error when ffmpeg fails or goes away.
+VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options);
+
+}  // namespace scenes

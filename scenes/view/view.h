@@ -1,0 +1,49 @@
+// `plausible view`: a scene in a GLFW window on the same renderer as the
+// pictures, to poke at. Keys (also buttons in the panel):
+//   Space pause/resume   Right or . one step   Left or , one step back
+//   R reset   [ ] slower/faster   I next integrator   H panel   P screenshot (view-SCENE-FRAME.png)
+//   C camera back to the scene's   Q or Esc quit
+// Mouse: left-drag a particle or a body (a spring pulls it to the cursor),
+// left-drag elsewhere or right-drag to orbit, middle-drag to pan, wheel to
+// zoom. The Dear ImGui panel has the step settings, sliders for the scene
+// file's numbers (changing one rebuilds the scene) and live plots of the
+// energy and of each system's time per frame.
+//
+// Stepping back restores stored states (the lecture: to go back in time
+// accurately, store states; Euler does not run backwards), so a frame shown
+// again has the same bits as the first time.
+#pragma once
+
+#include "scenes/model/scene.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+struct ViewOptions {
+    int width = 1280, height = 720;  // px, the window
+    // 0 (as the goldens), 1, 2, 4 or 8; -1: 4x when still (paused, scripted),
+    // off while the scene runs, so that a heavy scene stays interactive
+    // (4x MSAA costs llvmpipe about 40% more per frame).
+    int msaa_samples = -1;
+    bool panel = true;                 // the Dear ImGui panel (H toggles it)
+    bool paused = false;               // start paused
+    int exit_after = 0;                // > 0: show this many frames, one scene step each (no wall clock), then exit
+    std::filesystem::path screenshot;  // the window's last frame as PNG, on exit (and P's target)
+};
+
+struct ViewResult {
+    int frame = 0;      // the scene frame shown last
+    double time = 0.0;  // s, its simulated time
+    bool exploded = false;
+    std::string state_hash;  // hex, as `run --json` prints it: the same frame gives the same bits
+};
+
+// Opens the window and runs until it is closed (or after exit_after frames).
+// Throws render::RenderError(no_display) without a display, with a message
+// that says how to get a picture instead; sim::InputError for bad options.
+ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overrides, const ViewOptions& options);
+
+}  // namespace scenes
