@@ -1,0 +1,72 @@
+// `plausible check [SCENE...]`: every scene's checkpoints against its golden
+// images and state hashes (scenes/check), one line per scene and a summary.
+// Exit 1 when one failed, 2 on errors only.
+#include "scenes/cli/commands.h"
+
+#include "render/renderer.h"
+#include "scenes/check/check.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace scenes::cli {
+
+namespace {
+
+struct CheckArgs {
+    std::vector<std::string> scenes;
+    SceneOptions options;  // --set and the step shorthands, applied to every scene
+    std::string update = "none";
+    std::string report = "out/check";
+    std::string backend = "osmesa";
+};
+
+UpdateMode parse_update(const std::string& text) {
+    if (text == "none") return UpdateMode::none;
+    if (text == "missing") return UpdateMode::missing;
+    if (text == "changed") return UpdateMode::changed;
+    if (text == "all") return UpdateMode::all;
+    throw sim::InputError("--update must be none, missing, changed or all (got '" + text + "')");
+}
+
+int check(const CheckArgs& a) {
+    CheckOptions o;
+    o.update = parse_update(a.update);
+    const auto overrides = a.options.overrides();
+    if (o.update != UpdateMode::none && !overrides.empty()) {
+        throw sim::InputError(
+            "--update with --set would bless a scene that is not the one in its file: drop one of them");
+    }
+    o.report_dir = a.report;
+    const std::vector<std::string> names = a.scenes.empty() ? catalog() : a.scenes;
+    const auto context = render::create_context({.backend = parse_backend(a.backend)});
+    render::Renderer renderer(*context);
+    const auto results = check_scenes(names, overrides, o, renderer, context->fingerprint());
+    int passed = 0, failed = 0, errors = 0;
+    for (const SceneCheck& c : results) {
+        const bool ok = c.status == SceneCheck::Status::pass || c.status == SceneCheck::Status::updated;
+        passed += ok ? 1 : 0;
+        errors += c.status == SceneCheck::Status::error ? 1 : 0;
+        failed += !ok && c.status != SceneCheck::Status::error ? 1 : 0;
+        std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), status_name(c.status), c.message.c_str(), c.seconds);
+    }
+    std::printf("%d passed, %d failed, %d errors; report: %s\n", passed, failed, errors,
+                (std::filesystem::path(a.report) / "index.html").c_str());
+    return failed > 0 ? kExitFailed : errors > 0 ? kExitBadInput : kExitOk;
+}
+
+}  // namespace
+
+Command add_check(CLI::App& app) {
+    auto args = std::make_shared<CheckArgs>();
+    CLI::App* cmd = app.add_subcommand("check", "Compare scenes' checkpoint frames with their golden images");
+    cmd->add_option("scenes", args->scenes, "Scenes to check (default: all)");
+    args->options.add_to(cmd);
+    cmd->add_option("--update", args->update, "Write goldens: none, missing, changed or all")->capture_default_str();
+    cmd->add_option("--report", args->report, "Folder for the report (index.html, report.json, images)")
+        ->capture_default_str();
+    cmd->add_option("--backend", args->backend, "osmesa or egl")->capture_default_str();
+    return {cmd, [args] { return check(*args); }};
+}
+
+}  // namespace scenes::cli

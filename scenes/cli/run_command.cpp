@@ -1,0 +1,269 @@
+// `plausible run SCENE`: the scene headless to its end, then a summary (text,
+// or one JSON object with --json), and with --csv every object's state at
+// every frame. Exit 1 when the watchdog stopped the run.
+#include "scenes/cli/commands.h"
+
+#include "scenes/common/interrupt.h"
+#include "scenes/draw/scene_run.h"
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+
+namespace scenes::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunArgs {
+    SceneOptions scene;
+    std::optional<std::string> csv;
+    bool json = false;
+};
+
+// --csv FILE: one row per object per frame, written to a temporary file and
+// renamed at the end, so that an error or Ctrl+C leaves nothing behind.
+class CsvWriter {
+public:
+    explicit CsvWriter(std::string path) : path_(std::move(path)), temp_(path_ + ".tmp-" + std::to_string(getpid())) {
+        out_.open(temp_, std::ios::binary);
+        if (!out_) throw sim::InputError("--csv: cannot write " + path_);
+        out_ << "frame,time,kind,id,x,y,z,vx,vy,vz\n";
+        out_.precision(17);
+    }
+    ~CsvWriter() {
+        if (!out_.is_open()) return;
+        out_.close();
+        std::error_code error;
+        fs::remove(temp_, error);
+    }
+    CsvWriter(const CsvWriter&) = delete;
+    CsvWriter& operator=(const CsvWriter&) = delete;
+
+    void rows(const SceneRun& run) {
+        const sim::ParticleState& s = run.world().state();
+        for (std::size_t i = 0; i < s.size(); ++i) row(run.frame(), s.t, "particle", i, s.x.get(i), s.v.get(i));
+        if (const sim::RigidWorld* rigid = run.world().rigid()) {
+            const auto bodies = rigid->body_states();
+            for (std::size_t k = 0; k < bodies.size(); ++k) {
+                row(run.frame(), s.t, "body", k, bodies[k].position, bodies[k].velocity);
+            }
+        }
+    }
+    // Renames the finished file into place.
+    void commit() {
+        out_.close();
+        std::error_code error;
+        fs::rename(temp_, path_, error);
+        if (error) {
+            fs::remove(temp_, error);
+            throw sim::InputError("--csv: cannot write " + path_);
+        }
+    }
+
+private:
+    void row(int frame, double t, const char* kind, std::size_t id, const sim::Vec3& x, const sim::Vec3& v) {
+        out_ << frame << ',' << t << ',' << kind << ',' << id << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+             << v.x() << ',' << v.y() << ',' << v.z() << '\n';
+    }
+    std::string path_, temp_;
+    std::ofstream out_;
+};
+
+// The energy over a run, J: at the start, and its range over every frame.
+struct EnergyRange {
+    double initial = 0.0, min = 0.0, max = 0.0;
+    explicit EnergyRange(double e0) : initial(e0), min(e0), max(e0) {}
+    void add(double e) { min = std::min(min, e), max = std::max(max, e); }
+};
+
+// Steps the run to the scene's end (or the watchdog's stop), writing every
+// frame's rows to `csv` when there is one; returns the energy range.
+EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv) {
+    EnergyRange energy(run.world().energy());
+    if (csv) csv->rows(run);
+    while (run.frame() < frames && run.advance()) {
+        energy.add(run.world().energy());
+        if (csv) csv->rows(run);
+        if (interrupt_signal() != 0) check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
+    }
+    if (run.verdict().exploded()) {
+        if (csv) csv->rows(run);
+        energy.add(run.world().energy());
+    }
+    if (csv) check_interrupt("run --csv", "the last frame");
+    return energy;
+}
+
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
+
+// ms per step of each system the scene built (docs/design.md: one entry per
+// system and the total), measured on the sampled frames (World::SystemTimes);
+// the total is the whole step, the glue between systems included.
+nlohmann::json ms_per_system(const SceneDef& scene, const sim::World& world) {
+    const auto& times = world.times();
+    auto ms = [&](double seconds) { return times.ms_per_step(seconds); };
+    nlohmann::json per_system = nlohmann::json::object();
+    for (const std::string& system : scene.systems()) {
+        const double v = system == "particles"     ? ms(times.particles)
+                         : system == "constraints" ? ms(times.constraints)
+                         : system == "collisions"  ? ms(times.collisions)
+                         : system == "plasticity"  ? ms(times.plasticity)
+                         : system == "rigid"       ? ms(times.rigid)
+                         : system == "watchdog"    ? ms(times.watchdog)
+                                                   : -1.0;
+        if (v < 0.0) continue;  // springs: inside the particles' force evaluations
+        per_system[system] = v;
+    }
+    per_system["total"] = ms(times.total);
+    return per_system;
+}
+
+// The first ghost's distance from its closed form now, m (none without a ghost).
+std::optional<double> ghost_error(const SceneDef& scene, const SceneRun& run) {
+    if (scene.ghosts.empty()) return std::nullopt;
+    const Ghost& g = scene.ghosts.front();
+    const sim::World& world = run.world();
+    const sim::Vec3 x = g.body >= 0 ? world.rigid()->state({static_cast<std::uint32_t>(g.body), 0}).position
+                                    : world.state().x.get(g.particle);
+    return (x - g.exact(run.time()).x).norm();
+}
+
+// What both summaries report.
+struct Summary {
+    const SceneDef& scene;
+    const SceneRun& run;
+    EnergyRange energy;
+    double final_energy = 0.0;  // J
+    nlohmann::json ms_per_step;
+    std::optional<double> error;  // m, see ghost_error
+};
+
+nlohmann::json verdict_json(const sim::Verdict& verdict, const std::string& scene) {
+    if (!verdict.exploded()) return {{"status", "ok"}};
+    return {{"status", "exploded"},
+            {"frame", verdict.frame},
+            {"quantity", verdict.quantity},
+            {"index", verdict.index},
+            {"value", number(verdict.value)},
+            {"limit", number(verdict.limit)},
+            {"message", verdict.message(scene)}};
+}
+
+void print_json(const Summary& s) {
+    const sim::World& world = s.run.world();
+    nlohmann::json j;
+    j["scene"] = s.scene.name;
+    j["integrator"] = sim::integrator_info(s.scene.step.integrator).name;
+    j["dt"] = s.scene.step.dt;
+    j["substeps"] = s.scene.step.substeps;
+    j["steps"] = world.steps();
+    j["frames"] = s.run.frame();
+    j["sim_time"] = number(s.run.time());
+    j["systems"] = s.scene.systems();
+    j["state_hash"] = s.run.state_hash_hex();
+    j["energy"] = {{"initial", number(s.energy.initial)},
+                   {"final", number(s.final_energy)},
+                   {"min", number(s.energy.min)},
+                   {"max", number(s.energy.max)}};
+    j["verdict"] = verdict_json(s.run.verdict(), s.scene.name);
+    j["ms_per_step"] = s.ms_per_step;
+    nlohmann::json contained = nlohmann::json::array();
+    for (const auto& c : world.contained()) {
+        contained.push_back({{"name", c.name},
+                             {"frame", c.verdict.frame},
+                             {"quantity", c.verdict.quantity},
+                             {"index", c.verdict.index},
+                             {"value", number(c.verdict.value)},
+                             {"message", c.verdict.message(s.scene.name + ": " + c.name)}});
+    }
+    if (!contained.empty()) j["contained"] = contained;
+    j["force_evaluations"] = world.force_evaluations();
+    if (s.error) j["position_error"] = number(*s.error);
+    if (world.rigid() != nullptr) j["solver_messages"] = world.rigid()->solver_messages();
+    std::cout << j.dump() << "\n";
+}
+
+void print_text(const Summary& s) {
+    const SceneDef& scene = s.scene;
+    const sim::World& world = s.run.world();
+    const std::string integrator(sim::integrator_info(scene.step.integrator).name);
+    std::printf("%s: %d frames of %s, dt %s x %d substeps, t = %.4g s\n", scene.name.c_str(), s.run.frame(),
+                integrator.c_str(), format_dt(scene.step.dt).c_str(), scene.step.substeps, s.run.time());
+    const double e0 = s.energy.initial;
+    const double drift = e0 != 0.0 ? 100.0 * (s.final_energy - e0) / std::abs(e0) : 0.0;
+    std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", e0,
+                finite_or_nan(s.final_energy), drift, s.energy.min, s.energy.max);
+    if (s.error) {
+        const Ghost& g = scene.ghosts.front();
+        const std::string& who = g.body >= 0 ? scene.body_names[static_cast<std::size_t>(g.body)] + "'s centre of mass"
+                                             : scene.particle_names[g.particle];
+        std::printf("  accuracy  %s is %.3e m from the %s closed form\n", who.c_str(), *s.error, g.solution.c_str());
+    }
+    std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(),
+                s.ms_per_step["total"].get<double>());
+    bool first = true;
+    for (const auto& [system, v] : s.ms_per_step.items()) {
+        if (system == "total") continue;
+        std::printf("%s%s %.3g", first ? "" : ", ", system.c_str(), v.get<double>());
+        first = false;
+    }
+    std::printf(")\n");
+    for (const auto& c : world.contained()) {
+        std::printf("  contained %s (frozen; the run went on)\n",
+                    c.verdict.message(scene.name + ": " + c.name).c_str());
+    }
+    if (world.rigid() != nullptr) {
+        for (const std::string& said : world.rigid()->solver_messages()) std::printf("  ODE said  %s\n", said.c_str());
+    }
+    std::printf("  state     hash %s\n", s.run.state_hash_hex().c_str());
+    if (s.run.verdict().exploded()) std::printf("%s\n", s.run.verdict().message(scene.name).c_str());
+}
+
+int run_scene(const RunArgs& args) {
+    const SceneDef scene = args.scene.load();
+    SceneRun run(scene);
+    // Ctrl+C while the CSV is being written: stop at the next frame and
+    // remove it (a run without --csv writes nothing and keeps the default).
+    std::optional<InterruptScope> interrupts;
+    std::optional<CsvWriter> csv;
+    if (args.csv) interrupts.emplace(), csv.emplace(*args.csv);
+    const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr);
+    if (csv) csv->commit();
+    const Summary summary{
+        scene, run, energy, run.world().energy(), ms_per_system(scene, run.world()), ghost_error(scene, run)};
+    if (args.json) {
+        print_json(summary);
+    } else {
+        print_text(summary);
+    }
+    return run.verdict().exploded() ? kExitFailed : kExitOk;
+}
+
+}  // namespace
+
+Command add_run(CLI::App& app) {
+    auto args = std::make_shared<RunArgs>();
+    CLI::App* run = app.add_subcommand("run", "Run a scene headless and print a summary");
+    run->add_option("scene", args->scene.scene, "Scene name (see `plausible list`) or path of a .toml file")
+        ->required();
+    args->scene.add_to(run);
+    run->add_option("--csv", args->csv, "Write frame,time,kind,id,x,y,z,vx,vy,vz per object per frame");
+    run->add_flag("--json", args->json,
+                  "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
+                  "of frames (every frame at first, then enough to keep the clocks under 1% of the step; a step "
+                  "under a microsecond reads longer than it runs, the clock reads stopping its overlap with the "
+                  "next: bench_sim times those)");
+    return {run, [args] { return run_scene(*args); }};
+}
+
+}  // namespace scenes::cli

@@ -1,0 +1,51 @@
+// The options every scene-taking subcommand shares, and the parsers of the
+// values several of them take (--size, --backend).
+#include "scenes/cli/commands.h"
+
+#include "sim/error.h"
+
+#include <cstdio>
+
+namespace scenes::cli {
+
+void SceneOptions::add_to(CLI::App* app, bool with_frames) {
+    app->add_option("--set", sets, "Override a scene parameter, KEY=VALUE (e.g. step.dt=0.01); repeatable");
+    app->add_option("--integrator", integrator, "Integrator (shorthand for --set step.integrator=NAME)");
+    app->add_option("--dt", dt, "Frame step, s (shorthand for --set step.dt=S)");
+    app->add_option("--substeps", substeps, "Integrator steps per frame step (--set step.substeps=N)");
+    if (with_frames) app->add_option("--frames", frames, "Frame steps to run (--set frames=N)");
+}
+
+std::vector<Override> SceneOptions::overrides() const {
+    std::vector<Override> out;
+    for (const std::string& s : sets) out.push_back(parse_override(s));
+    if (integrator) out.push_back({"step.integrator", "\"" + *integrator + "\""});
+    if (dt) out.push_back({"step.dt", sim::format_value(*dt)});
+    if (substeps) out.push_back({"step.substeps", std::to_string(*substeps)});
+    if (frames) out.push_back({"frames", std::to_string(*frames)});
+    return out;
+}
+
+SceneDef SceneOptions::load() const {
+    SceneDef def = load_scene(resolve_scene(scene), overrides());
+    for (const std::string& w : def.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    return def;
+}
+
+std::pair<int, int> parse_size(const std::string& text) {
+    int w = 0, h = 0;
+    char end = 0;
+    if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &end) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) {
+        throw sim::InputError("--size must be WIDTHxHEIGHT within 16x16 .. 8192x8192 px (got '" + text + "')");
+    }
+    return {w, h};
+}
+
+render::Backend parse_backend(const std::string& text) {
+    const auto b = render::backend_from_name(text);
+    if (!b || *b == render::Backend::glfw)
+        throw sim::InputError("--backend must be osmesa or egl (got '" + text + "')");
+    return *b;
+}
+
+}  // namespace scenes::cli

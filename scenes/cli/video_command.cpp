@@ -1,0 +1,55 @@
+// `plausible video SCENE -o FILE`: the scene (or several variants side by
+// side) as an MP4 or GIF through ffmpeg (scenes/video).
+#include "scenes/cli/commands.h"
+
+#include "scenes/common/progress.h"
+#include "scenes/video/video.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace scenes::cli {
+
+namespace {
+
+struct VideoArgs {
+    SceneOptions scene;
+    VideoOptions options;
+    std::string out, size = "1280x720", compare;
+};
+
+int video(VideoArgs& a) {
+    const auto [w, h] = parse_size(a.size);
+    a.options.width = w;
+    a.options.height = h;
+    a.options.output = a.out;
+    std::stringstream names(a.compare);
+    for (std::string name; std::getline(names, name, ',');) a.options.compare.push_back(name);
+    a.options.progress = progress_wanted();
+    const SceneDef scene = a.scene.load();
+    const VideoStats v = write_video(scene, a.scene.overrides(), a.options);
+    std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
+                a.out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
+    return kExitOk;
+}
+
+}  // namespace
+
+Command add_video(CLI::App& app) {
+    auto args = std::make_shared<VideoArgs>();
+    CLI::App* cmd = app.add_subcommand("video", "Render a scene to MP4 (H.264) or GIF through ffmpeg");
+    cmd->add_option("scene", args->scene.scene, "Scene name or .toml path")->required();
+    args->scene.add_to(cmd);
+    cmd->add_option("-o,--output", args->out, "FILE.mp4 or FILE.gif (written whole or not at all)")->required();
+    cmd->add_option("--size", args->size, "Width x height, even, px")->capture_default_str();
+    cmd->add_option("--fps", args->options.fps, "Video frames per second (physics keeps its own dt)")
+        ->capture_default_str();
+    cmd->add_option("--seconds", args->options.seconds, "Simulated seconds (default: the scene's length)");
+    cmd->add_option("--compare", args->compare,
+                    "Tiles side by side in lock step, comma-separated: integrators (forward_euler,symplectic_euler) "
+                    "or --set variants (step.substeps=1,step.substeps=8)");
+    cmd->add_flag("!--no-caption", args->options.caption, "No description across the bottom for the first seconds");
+    return {cmd, [args] { return video(*args); }};
+}
+
+}  // namespace scenes::cli

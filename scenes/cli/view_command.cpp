@@ -1,0 +1,52 @@
+// `plausible view SCENE`: the scene in a window (scenes/view); prints where
+// it was left. Exit 1 when the watchdog stopped it, 2 without a display.
+#include "scenes/cli/commands.h"
+
+#include "scenes/view/view.h"
+
+#include <cstdio>
+
+namespace scenes::cli {
+
+namespace {
+
+struct ViewArgs {
+    SceneOptions scene;
+    ViewOptions options;
+    std::string size = "1280x720", screenshot;
+};
+
+int view(ViewArgs& a) {
+    const auto [w, h] = parse_size(a.size);
+    a.options.width = w;
+    a.options.height = h;
+    a.options.screenshot = a.screenshot;
+    const SceneDef scene = a.scene.load();
+    const ViewResult v = run_viewer(scene, a.scene.overrides(), a.options);
+    std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s\n", scene.name.c_str(), v.frame, v.time,
+                v.state_hash.c_str(), v.exploded ? " (exploded)" : "",
+                a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
+    return v.exploded ? kExitFailed : kExitOk;
+}
+
+}  // namespace
+
+Command add_view(CLI::App& app) {
+    auto args = std::make_shared<ViewArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "view", "Run a scene in a window: pause, step, step back, drag things, change integrator and dt live");
+    cmd->add_option("scene", args->scene.scene, "Scene name or .toml path")->required();
+    args->scene.add_to(cmd);
+    cmd->add_option("--size", args->size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
+    cmd->add_option("--msaa", args->options.msaa_samples,
+                    "MSAA samples, 0 (off, as the goldens) .. 8; -1: 4 when still, off while running")
+        ->capture_default_str();
+    cmd->add_flag("!--no-panel", args->options.panel, "Hide the control panel (H shows it)");
+    cmd->add_flag("--paused", args->options.paused, "Start paused (Space resumes, Right steps)");
+    cmd->add_option("--exit-after", args->options.exit_after,
+                    "Show N frames, one scene step each (no wall clock), then exit");
+    cmd->add_option("--screenshot", args->screenshot, "Save the window's last frame as this PNG on exit");
+    return {cmd, [args] { return view(*args); }};
+}
+
+}  // namespace scenes::cli
