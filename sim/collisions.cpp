@@ -1,6 +1,7 @@
 #include "sim/collisions.h"
 
 #include "sim/error.h"
+#include "sim/overloaded.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -8,16 +9,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace sim {
 
 namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-    using Ts::operator()...;
-};
 
 void finite(const Vec3& v, const std::string& name, const char* unit) {
     if (!v.allFinite()) {
@@ -150,48 +147,64 @@ bool collide_static(const Collider& collider, const Collisions& c, const Vec3& x
     return true;
 }
 
-std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const double* radius, const double* inv_mass,
-                          CollisionScratch& s) {
-    const std::size_t n = x.n;
-    // Only free particles enter the grid: pinned ones (and an emitter's parked
-    // ones, all in one place) are not obstacles to each other or to anyone.
-    double r_max = 0.0;
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+// The broad phase's grid: dense, over the free particles' bounding box.
+struct PairGrid {
+    Vec3 lo, hi;         // m, the free particles' bounding box
+    double r_max = 0.0;  // m, their largest radius
+    double cell = 0.0;   // m, a cell's side
+    std::int64_t nx = 0, ny = 0, nz = 0;
+    std::size_t cells = 0;
+
+    // The cell along one axis of a coordinate p (m), clamped into the grid.
+    std::int32_t axis(double p, double origin, std::int64_t count) const {
+        return static_cast<std::int32_t>(std::min(static_cast<std::int64_t>((p - origin) / cell), count - 1));
+    }
+};
+
+// Only free particles enter the grid: pinned ones (and an emitter's parked
+// ones, all in one place) are not obstacles to each other or to anyone.
+// Cells of 2 r_max (a particle's neighbours are in the cells around its
+// own), coarsened while the grid would have more than 16 cells per particle
+// (a far outlier). Cells are numbered x fastest, so the three cells of a row
+// dx = -1, 0, 1 are one range of the sorted entries. None: fewer than two
+// free particles.
+std::optional<PairGrid> pair_grid(ConstVec3Span x, const double* radius, const double* inv_mass) {
+    PairGrid g;
+    g.lo = Vec3::Constant(std::numeric_limits<double>::max());
+    g.hi = -g.lo;
     std::size_t free = 0;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < x.n; ++i) {
         if (inv_mass[i] == 0.0 || radius[i] <= 0.0) continue;
-        r_max = std::max(r_max, radius[i]);
+        g.r_max = std::max(g.r_max, radius[i]);
         const Vec3 p = x.get(i);
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
+        g.lo = g.lo.cwiseMin(p);
+        g.hi = g.hi.cwiseMax(p);
         ++free;
     }
-    if (free < 2) return 0;
-    // A dense grid over the free particles' box, cells of 2 r_max (a
-    // particle's neighbours are in the cells around its own), coarsened while
-    // it would have more than 16 cells per particle (a far outlier). Cells are
-    // numbered x fastest, so the three cells of a row dx = -1, 0, 1 are one
-    // range of the sorted entries.
-    double cell = 2.0 * r_max;  // m
-    std::int64_t nx = 0, ny = 0, nz = 0;
+    if (free < 2) return std::nullopt;
+    g.cell = 2.0 * g.r_max;
     for (;;) {
-        nx = static_cast<std::int64_t>((hi.x() - lo.x()) / cell) + 1;
-        ny = static_cast<std::int64_t>((hi.y() - lo.y()) / cell) + 1;
-        nz = static_cast<std::int64_t>((hi.z() - lo.z()) / cell) + 1;
-        if (static_cast<double>(nx) * ny * nz <= 16.0 * static_cast<double>(free) + 64.0) break;
-        cell *= 2.0;
+        g.nx = static_cast<std::int64_t>((g.hi.x() - g.lo.x()) / g.cell) + 1;
+        g.ny = static_cast<std::int64_t>((g.hi.y() - g.lo.y()) / g.cell) + 1;
+        g.nz = static_cast<std::int64_t>((g.hi.z() - g.lo.z()) / g.cell) + 1;
+        if (static_cast<double>(g.nx) * g.ny * g.nz <= 16.0 * static_cast<double>(free) + 64.0) break;
+        g.cell *= 2.0;
     }
-    const auto cells = static_cast<std::size_t>(nx * ny * nz);
-    auto axis = [&](double p, double origin, std::int64_t count) {
-        return static_cast<std::int32_t>(std::min(static_cast<std::int64_t>((p - origin) / cell), count - 1));
-    };
+    g.cells = static_cast<std::size_t>(g.nx * g.ny * g.nz);
+    return g;
+}
 
-    // Counting sort of the free particles by cell. The counts go two slots
-    // up (cell_start[id + 2]), so that after the prefix sum cell_start[id + 1]
-    // is cell id's first entry, and filling the entries through it moves it
-    // on to the next cell's first: cell_start[id] ends as the first entry of
-    // cell id, with no second array of cursors.
-    s.cell_start.assign(cells + 2, 0);
+// Counting sort of the free particles by cell. The counts go two slots up
+// (cell_start[id + 2]), so that after the prefix sum cell_start[id + 1] is
+// cell id's first entry, and filling the entries through it moves it on to
+// the next cell's first: cell_start[id] ends as the first entry of cell id,
+// with no second array of cursors. Then positions and radii in entry order
+// (s.sorted): the candidate tests read them in sequence. Returns the number
+// of entries.
+std::uint32_t sort_into_cells(const PairGrid& g, ConstVec3Span x, const double* radius, const double* inv_mass,
+                              CollisionScratch& s) {
+    const std::size_t n = x.n;
+    s.cell_start.assign(g.cells + 2, 0);
     s.cell_of.resize(n);
     s.cell_xyz.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -199,21 +212,19 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
             s.cell_of[i] = -1;
             continue;
         }
-        const GridCell g{axis(x.c[0][i], lo.x(), nx), axis(x.c[1][i], lo.y(), ny), axis(x.c[2][i], lo.z(), nz)};
-        s.cell_xyz[i] = g;
-        s.cell_of[i] = static_cast<std::int32_t>((g.z * ny + g.y) * nx + g.x);
+        const GridCell c{g.axis(x.c[0][i], g.lo.x(), g.nx), g.axis(x.c[1][i], g.lo.y(), g.ny),
+                         g.axis(x.c[2][i], g.lo.z(), g.nz)};
+        s.cell_xyz[i] = c;
+        s.cell_of[i] = static_cast<std::int32_t>((c.z * g.ny + c.y) * g.nx + c.x);
         ++s.cell_start[static_cast<std::size_t>(s.cell_of[i]) + 2];
     }
-    for (std::size_t k = 1; k < cells + 2; ++k) s.cell_start[k] += s.cell_start[k - 1];
+    for (std::size_t k = 1; k < g.cells + 2; ++k) s.cell_start[k] += s.cell_start[k - 1];
     s.cell_entries.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         if (s.cell_of[i] >= 0)
             s.cell_entries[s.cell_start[static_cast<std::size_t>(s.cell_of[i]) + 1]++] = static_cast<std::uint32_t>(i);
     }
-
-    // Positions and radii in entry order: the candidate tests below read
-    // them in sequence. Overlapping pairs are resolved on the live arrays.
-    const auto entries = static_cast<std::uint32_t>(s.cell_start[cells]);
+    const auto entries = static_cast<std::uint32_t>(s.cell_start[g.cells]);
     s.sorted.resize(4 * static_cast<std::size_t>(entries));
     for (std::uint32_t e = 0; e < entries; ++e) {
         const std::uint32_t i = s.cell_entries[e];
@@ -222,40 +233,43 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
         s.sorted[4 * e + 2] = x.c[2][i];
         s.sorted[4 * e + 3] = radius[i];
     }
+    return entries;
+}
 
-    // Overlapping pairs, as entry indices (ei < ej), on the positions as
-    // they were at the start of the pass. Each entry against: the rest of
-    // its own cell and the next one in its row (one range), the row above
-    // (dy = 1), and the three rows in front (dz = 1, dy = -1 .. 1), each row
-    // dx = -1 .. 1: the 13 forward neighbour cells, so every pair is found
-    // once, in the order (ei, ej).
-    //
-    // A neighbour cell across a face of the entry's cell that is farther from
-    // it than the largest reach 2 r_max holds nothing it overlaps: that cell
-    // is left out of its range (dropping only candidates that would fail the
-    // test, so the same pairs in the same order). Cells are often coarser
-    // than 2 r_max (see above), and this skips most of the 13. The faces
-    // lo + k cell computed here and the cell indices of the particles differ
-    // by rounding, a few ulp of the coordinates: `slack`, a millionfold that,
-    // keeps the skipping on the safe side.
-    const double reach_max = 2.0 * r_max;  // m, the largest r_i + r_j
-    const double slack = 1e-9 * std::max({lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff(), cell});  // m
+// Overlapping pairs into s.pairs, as entry indices (ei < ej), on the
+// positions as they were at the start of the pass; returns how many. Each
+// entry against: the rest of its own cell and the next one in its row (one
+// range), the row above (dy = 1), and the three rows in front (dz = 1, dy =
+// -1 .. 1), each row dx = -1 .. 1: the 13 forward neighbour cells, so every
+// pair is found once, in the order (ei, ej).
+//
+// A neighbour cell across a face of the entry's cell that is farther from it
+// than the largest reach 2 r_max holds nothing it overlaps: that cell is left
+// out of its range (dropping only candidates that would fail the test, so the
+// same pairs in the same order). Cells are often coarser than 2 r_max (see
+// pair_grid), and this skips most of the 13. The faces lo + k cell computed
+// here and the cell indices of the particles differ by rounding, a few ulp of
+// the coordinates: `slack`, a millionfold that, keeps the skipping on the
+// safe side.
+std::size_t find_pairs(const PairGrid& g, std::uint32_t entries, CollisionScratch& s) {
+    const double reach_max = 2.0 * g.r_max;  // m, the largest r_i + r_j
+    const double slack = 1e-9 * std::max({g.lo.cwiseAbs().maxCoeff(), g.hi.cwiseAbs().maxCoeff(), g.cell});  // m
     auto near_low = [&](double p, double origin, std::int64_t k) {
-        return p - (origin + k * cell) < reach_max + slack;
+        return p - (origin + k * g.cell) < reach_max + slack;
     };
     auto near_high = [&](double p, double origin, std::int64_t k) {
-        return (origin + (k + 1) * cell) - p < reach_max + slack;
+        return (origin + (k + 1) * g.cell) - p < reach_max + slack;
     };
     const double* sorted = s.sorted.data();
     const std::uint32_t* cell_start = s.cell_start.data();
     std::size_t found = 0;
     for (std::uint32_t ei = 0; ei < entries; ++ei) {
         const double* pi = &sorted[4 * static_cast<std::size_t>(ei)];
-        const GridCell g = s.cell_xyz[s.cell_entries[ei]];
-        const std::int64_t cx = g.x, cy = g.y, cz = g.z;
+        const GridCell c = s.cell_xyz[s.cell_entries[ei]];
+        const std::int64_t cx = c.x, cy = c.y, cz = c.z;
         // The cells of a row to scan: dx = -1 and dx = 1 when near those faces.
-        const std::int64_t x_first = cx > 0 && near_low(pi[0], lo.x(), cx) ? cx - 1 : cx;
-        const std::int64_t x_last = cx + 1 < nx && near_high(pi[0], lo.x(), cx) ? cx + 1 : cx;
+        const std::int64_t x_first = cx > 0 && near_low(pi[0], g.lo.x(), cx) ? cx - 1 : cx;
+        const std::int64_t x_last = cx + 1 < g.nx && near_high(pi[0], g.lo.x(), cx) ? cx + 1 : cx;
         // Every candidate is written and the count moves on only for an
         // overlap: no branch to mispredict on a test that is mostly false
         // (about one candidate in seven overlaps in the fountain). Room for
@@ -273,23 +287,28 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
             }
         };
         auto row = [&](std::int64_t y, std::int64_t z) {
-            if (y < 0 || y >= ny || z >= nz) return;
-            const std::int64_t base = (z * ny + y) * nx;
+            if (y < 0 || y >= g.ny || z >= g.nz) return;
+            const std::int64_t base = (z * g.ny + y) * g.nx;
             scan(cell_start[static_cast<std::size_t>(base + x_first)],
                  cell_start[static_cast<std::size_t>(base + x_last + 1)]);
         };
-        const std::int64_t id = (cz * ny + cy) * nx + cx;
+        const std::int64_t id = (cz * g.ny + cy) * g.nx + cx;
         scan(ei + 1, cell_start[static_cast<std::size_t>(id + 1 + (x_last - cx))]);
-        if (near_high(pi[1], lo.y(), cy)) row(cy + 1, cz);
-        if (near_high(pi[2], lo.z(), cz)) {
-            if (near_low(pi[1], lo.y(), cy)) row(cy - 1, cz + 1);
+        if (near_high(pi[1], g.lo.y(), cy)) row(cy + 1, cz);
+        if (near_high(pi[2], g.lo.z(), cz)) {
+            if (near_low(pi[1], g.lo.y(), cy)) row(cy - 1, cz + 1);
             row(cy, cz + 1);
-            if (near_high(pi[1], lo.y(), cy)) row(cy + 1, cz + 1);
+            if (near_high(pi[1], g.lo.y(), cy)) row(cy + 1, cz + 1);
         }
     }
+    return found;
+}
 
-    // Resolved in the order found, on the live arrays: a pair may already
-    // have been pushed apart by an earlier one of this pass.
+// The first `found` pairs of s.pairs resolved in the order found, on the
+// live arrays: a pair may already have been pushed apart by an earlier one
+// of this pass. Returns the contacts resolved.
+std::size_t resolve_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const double* radius, const double* inv_mass,
+                          const CollisionScratch& s, std::size_t found) {
     std::size_t contacts = 0;
     for (std::size_t k = 0; k < found; ++k) {
         const auto [ei, ej] = s.pairs[k];
@@ -324,6 +343,17 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
         ++contacts;
     }
     return contacts;
+}
+
+// Particle against particle: a grid broad phase, then the overlapping pairs
+// resolved one by one.
+std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const double* radius, const double* inv_mass,
+                          CollisionScratch& s) {
+    const std::optional<PairGrid> grid = pair_grid(x, radius, inv_mass);
+    if (!grid) return 0;
+    const std::uint32_t entries = sort_into_cells(*grid, x, radius, inv_mass, s);
+    const std::size_t found = find_pairs(*grid, entries, s);
+    return resolve_pairs(c, x, v, radius, inv_mass, s, found);
 }
 
 }  // namespace

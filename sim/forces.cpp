@@ -1,17 +1,10 @@
 #include "sim/forces.h"
 
+#include "sim/overloaded.h"
+
 #include <algorithm>
 
 namespace sim {
-
-namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-    using Ts::operator()...;
-};
-
-}  // namespace
 
 const char* force_name(const ForceDef& force) {
     return std::visit(Overloaded{

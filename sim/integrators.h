@@ -4,7 +4,7 @@
 // Adding an integrator: write its step function in integrators.cpp (its
 // comment gives the update equations and the order), add its enumerator and
 // one row to kIntegrators, and one row to the accuracy tests' table in
-// tests/sim/integrators_test.cpp.
+// tests/sim/integrators_accuracy_test.cpp.
 #pragma once
 
 #include "sim/dynamics.h"

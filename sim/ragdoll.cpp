@@ -79,9 +79,6 @@ constexpr JointSpec kJoints[kRagdollJoints] = {
 
 std::string_view name(RagdollBone bone) { return kBones[static_cast<std::size_t>(bone)].name; }
 
-RagdollBone joint_child(std::size_t joint) { return static_cast<RagdollBone>(joint + 1); }
-RagdollBone joint_parent(std::size_t joint) { return static_cast<RagdollBone>(kBones[joint + 1].parent); }
-
 void validate(const RagdollDef& d) {
     require_positive(d.height, "ragdoll.height", "m");
     require_positive(d.mass, "ragdoll.mass", "kg");
@@ -138,8 +135,8 @@ RagdollParts ragdoll_parts(const RagdollDef& d, int first_body) {
         j.motor_velocity = 0.0;
         j.motor_max_force = d.joint_friction;  // friction: a motor holding velocity 0
         const double m_child = out.bodies[k + 1].mass, m_parent = out.bodies[child.parent].mass;
-        const double ratio = std::max(m_child, m_parent) / std::min(m_child, m_parent);
-        if (ratio > 10.0) {
+        const double ratio = mass_ratio(m_child, m_parent);
+        if (ratio > kSlowMassRatio) {
             std::ostringstream w;
             w.precision(3);
             w << "ragdoll: " << child.name << " (" << m_child << " kg) on " << kBones[child.parent].name << " ("

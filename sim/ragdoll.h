@@ -15,7 +15,8 @@
 // cost of one more solver row per axis (about 12% of a pile's step).
 //
 // A Ragdoll is a plain struct of ids: create it in a RigidWorld, destroy it
-// there. RigidModel lists ragdolls to create with the world.
+// there. A RigidModel holds bodies and joints only: ragdoll_parts lists a
+// ragdoll's as a RigidModel would (the scene loader adds them so).
 #pragma once
 
 #include "sim/rigid.h"
@@ -91,9 +92,5 @@ RagdollParts ragdoll_parts(const RagdollDef& def, int first_body = 0);
 
 Ragdoll create_ragdoll(RigidWorld& world, const RagdollDef& def);  // validates (InputError)
 void destroy_ragdoll(RigidWorld& world, const Ragdoll& ragdoll);
-
-// The bone a joint moves (its child) and the bone it hangs from, in joint order.
-RagdollBone joint_child(std::size_t joint);
-RagdollBone joint_parent(std::size_t joint);
 
 }  // namespace sim

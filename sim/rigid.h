@@ -19,6 +19,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -213,12 +214,11 @@ struct RigidModel {
     bool empty() const { return bodies.empty(); }
 };
 
-// A jointed pair's mass ratio, heavier / lighter: above about 10 the
-// iterative solver converges slowly on it (a chain under a heavy ball stretches).
-struct MassRatio {
-    JointId joint;
-    double ratio = 1.0;
-};
+// A jointed pair's mass ratio, heavier / lighter. Above kSlowMassRatio the
+// iterative solver (quickstep) converges slowly on the pair: a chain under a
+// heavy ball stretches. The scene loader and the ragdoll builder warn.
+constexpr double kSlowMassRatio = 10.0;
+inline double mass_ratio(double a, double b) { return std::max(a, b) / std::min(a, b); }
 
 class RigidWorld {
 public:
@@ -254,8 +254,6 @@ public:
     Eigen::Matrix3d inertia(BodyId id) const;  // kg·m², body frame, about the centre of mass
     bool awake(BodyId id) const;
     std::size_t awake_count() const;
-    // Every jointed pair with a mass ratio above `limit`, worst first.
-    std::vector<MassRatio> mass_ratios_above(double limit) const;
     // Every part of every live body, in body index order.
     std::vector<PlacedPart> placed_parts() const;
     double kinetic_energy() const;    // J, ½ m v² + ½ ωᵀ I ω over all bodies

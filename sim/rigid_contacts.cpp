@@ -1,0 +1,90 @@
+// RigidWorld's contacts: which pairs of geoms may collide (not bodies one or
+// two joints apart, not asleep against static), and the contact joints'
+// surface parameters.
+#include "sim/error.h"
+#include "sim/rigid_impl.h"
+
+#include <ode/ode.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace sim {
+
+using rigid_detail::to_vec;
+
+namespace {
+
+constexpr int kMaxContacts = 4;  // per colliding pair of geoms
+
+}  // namespace
+
+std::uint32_t RigidWorld::Impl::index_of(dBodyID body) {
+    return static_cast<std::uint32_t>(reinterpret_cast<std::uintptr_t>(dBodyGetData(body)));
+}
+
+// Bodies one or two joints apart do not collide (parent and child,
+// grandparent and grandchild, siblings): in a ragdoll their shapes meet
+// at every joint and the contacts fight the joints, so that a ragdoll
+// at rest creeps and never sleeps (Jolt's ragdolls filter the same
+// pairs). Farther bodies (a hand and a thigh) collide.
+bool RigidWorld::Impl::jointed_within_two(dBodyID a, dBodyID b) {
+    if (dAreConnectedExcluding(a, b, dJointTypeContact)) return true;
+    const int n = dBodyGetNumJoints(a);
+    for (int k = 0; k < n; ++k) {
+        const dJointID j = dBodyGetJoint(a, k);
+        if (dJointGetType(j) == dJointTypeContact) continue;
+        for (int side = 0; side < 2; ++side) {
+            const dBodyID middle = dJointGetBody(j, side);
+            if (middle != nullptr && middle != a && dAreConnectedExcluding(middle, b, dJointTypeContact)) return true;
+        }
+    }
+    return false;
+}
+
+// ODE's broad phase calls this for each pair of geoms whose boxes overlap.
+void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
+    auto* self = static_cast<Impl*>(data);
+    dBodyID ba = dGeomGetBody(a), bb = dGeomGetBody(b);
+    // Nothing to do unless one side moves: static against static, asleep
+    // against asleep or static.
+    const bool moving_a = ba != nullptr && dBodyIsEnabled(ba), moving_b = bb != nullptr && dBodyIsEnabled(bb);
+    if (!moving_a && !moving_b) return;
+    if (ba == bb) return;  // parts of one compound body
+    if (ba != nullptr && bb != nullptr) {
+        if (self->settings.self_collision ? jointed_within_two(ba, bb)
+                                          : self->group_of[index_of(ba)] == self->group_of[index_of(bb)]) {
+            return;
+        }
+    }
+    dContact contact[kMaxContacts];
+    const int n = dCollide(a, b, kMaxContacts, &contact[0].geom, sizeof(dContact));
+    if (n == 0) return;
+    // An awake body touching a sleeping one: a gentle touch (the awake
+    // body itself slow enough to sleep) meets the sleeper as static
+    // ground, so that the solver's jitter in a pile does not wake what
+    // has settled, over and over; a real blow wakes it (and, through
+    // its joints, its whole group).
+    if (moving_a != moving_b && ba != nullptr && bb != nullptr) {
+        const dBodyID awake = moving_a ? ba : bb, asleep = moving_a ? bb : ba;
+        if (self->slow(awake)) {
+            (moving_a ? bb : ba) = nullptr;
+        } else {
+            dBodyEnable(asleep);
+        }
+    }
+    for (int i = 0; i < n; ++i) {
+        dSurfaceParameters& s = contact[i].surface;
+        s.mode = dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+        s.mu = self->settings.friction;
+        s.bounce = self->settings.restitution;
+        s.bounce_vel = self->settings.bounce_velocity;
+        s.soft_erp = self->settings.erp;
+        s.soft_cfm = self->settings.cfm;
+        dJointID j = dJointCreateContact(self->world, self->contact_group, &contact[i]);
+        dJointAttach(j, ba, bb);
+        ++self->contacts;
+    }
+}
+
+}  // namespace sim
