@@ -274,9 +274,16 @@ void main() {
 
 // --- Compiling and linking ---------------------------------------------------------------
 
-// The driver's log for a shader that does not compile or a program that does
-// not link, which is then deleted.
-std::string failure_log(const GladGLContext& gl, GLuint object, bool program) {
+// Throws RenderError(gl) with the driver's log when a shader does not compile
+// or a program does not link; the object is deleted first.
+void check_built(const GladGLContext& gl, GLuint object, bool program, const char* name) {
+    GLint ok = 0;
+    if (program) {
+        gl.GetProgramiv(object, GL_LINK_STATUS, &ok);
+    } else {
+        gl.GetShaderiv(object, GL_COMPILE_STATUS, &ok);
+    }
+    if (ok) return;
     char log[4096] = {};
     if (program) {
         gl.GetProgramInfoLog(object, sizeof log, nullptr, log);
@@ -285,19 +292,15 @@ std::string failure_log(const GladGLContext& gl, GLuint object, bool program) {
         gl.GetShaderInfoLog(object, sizeof log, nullptr, log);
         gl.DeleteShader(object);
     }
-    return log;
+    throw RenderError(ErrorKind::gl, std::string(program ? "program '" : "shader '") + name +
+                                         (program ? "' does not link: " : "' does not compile: ") + log);
 }
 
 GLuint compile(const GladGLContext& gl, GLenum type, const std::vector<const char*>& sources, const char* name) {
     const GLuint shader = gl.CreateShader(type);
     gl.ShaderSource(shader, static_cast<GLsizei>(sources.size()), sources.data(), nullptr);
     gl.CompileShader(shader);
-    GLint ok = 0;
-    gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        throw RenderError(ErrorKind::gl,
-                          std::string("shader '") + name + "' does not compile: " + failure_log(gl, shader, false));
-    }
+    check_built(gl, shader, false, name);
     return shader;
 }
 
@@ -317,12 +320,7 @@ GLuint link(const GladGLContext& gl, const char* vertex, const char* fragment, b
     gl.LinkProgram(program);
     gl.DeleteShader(v);
     gl.DeleteShader(f);
-    GLint ok = 0;
-    gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        throw RenderError(ErrorKind::gl,
-                          std::string("program '") + name + "' does not link: " + failure_log(gl, program, true));
-    }
+    check_built(gl, program, true, name);
     return program;
 }
 
