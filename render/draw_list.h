@@ -209,4 +209,11 @@ struct RenderSettings {
     int shadow_map_size = 1024;  // texels per side (2048 costs 6 ms more per frame on llvmpipe)
 };
 
+// The MSAA sample counts the renderer takes: 0 or 1 (off), 2, 4 or 8. The one
+// check, for the renderer and for the commands that take --msaa; a driver may
+// still allow fewer (Renderer::draw says so).
+constexpr bool supported_msaa_samples(int samples) {
+    return samples == 0 || samples == 1 || samples == 2 || samples == 4 || samples == 8;
+}
+
 }  // namespace render

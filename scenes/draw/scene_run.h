@@ -1,8 +1,9 @@
 // One run of a scene: a World built from the SceneDef (DESIGN.md rule 2), the
-// frame counter, what pictures need from the past (trails, the energy curve),
-// and the glue that turns it all into a render::DrawList (DESIGN.md rule 1:
-// sim knows nothing of rendering, render nothing of physics; this file knows
-// both). run, render, check, video and view all step scenes through it.
+// frame counter, what pictures need from the past (trails, the energy curve)
+// (scene_run.cpp), and the glue that turns it all into a render::DrawList
+// (draw_list.cpp; DESIGN.md rule 1: sim knows nothing of rendering, render
+// nothing of physics; this room knows both). run, render, check, video and
+// view all step scenes through it.
 #pragma once
 
 #include "render/draw_list.h"
@@ -56,6 +57,24 @@ public:
 
 private:
     void record();
+
+    // The picture, one kind of thing at a time (draw_list.cpp); draw_list()
+    // calls them in this order, which is the order of the list's items.
+    void add_colliders(render::DrawList& list) const;
+    void add_water(render::DrawList& list) const;
+    void add_bodies(render::DrawList& list) const;  // rigid, then ropes, cloth and soft bodies
+    void add_springs(render::DrawList& list) const;
+    void add_particles(render::DrawList& list) const;  // with their arrows and trails
+    void add_ghosts(render::DrawList& list) const;
+    void add_overlays(render::DrawList& list, int width, int height) const;  // HUD text, energy plot
+
+    void add_rigid_bodies(render::DrawList& list) const;
+    void add_rope(render::DrawList& list, const BodyLook& body) const;
+    render::Mesh body_mesh(const BodyLook& body) const;
+    void add_arrow(render::DrawList& list, std::size_t particle, const sim::Vec3& along, render::Color color) const;
+    void add_trail(render::DrawList& list, std::size_t particle) const;
+    void add_hud(render::DrawList& list, float text) const;  // text: px, the title's height
+    void add_energy_plot(render::DrawList& list, int width, int height, float text) const;
     double link_strain(std::uint32_t a, std::uint32_t b) const;  // (length - built length) / built length
 
     const SceneDef& scene_;
