@@ -68,7 +68,7 @@ int render_scene(const RenderArgs& r) {
     const SceneDef scene = r.scene.load();
     const auto [w, h] = parse_size(r.size);
     const render::Backend backend = parse_backend(r.backend);
-    if (r.msaa != 0 && r.msaa != 1 && r.msaa != 2 && r.msaa != 4 && r.msaa != 8) {
+    if (!render::supported_msaa_samples(r.msaa)) {
         throw sim::InputError("--msaa must be 0, 1, 2, 4 or 8 (got " + std::to_string(r.msaa) + ")");
     }
     const std::vector<int> frames = parse_frames(r.frames, scene);

@@ -6,6 +6,8 @@
 // pixels). Its own file: what a frame shows, apart from how a run steps.
 #include "scenes/draw/scene_run.h"
 
+#include "sim/overloaded.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,11 +37,6 @@ std::string format(const char* pattern, double value) {
     std::snprintf(text, sizeof text, pattern, value);
     return text;
 }
-
-template <class... Ts>
-struct Overloaded : Ts... {
-    using Ts::operator()...;
-};
 
 // A link's colour by its strain: the body's colour at rest, towards red when
 // stretched and blue when compressed, saturating at 10%.
@@ -85,7 +82,7 @@ void SceneRun::add_colliders(render::DrawList& list) const {
         const render::Look look{render_color(scene_.collider_colors[k])};
         if (look.color.a == 0.0f) continue;
         std::visit(
-            Overloaded{
+            sim::Overloaded{
                 [&](const sim::PlaneCollider& p) {
                     list.planes.push_back(render::Plane{to_render(p.normal * p.offset), to_render(p.normal),
                                                         render::Vec2(8.0f, 8.0f), look});

@@ -59,8 +59,8 @@ void SceneRun::record() {
 
 std::uint64_t SceneRun::state_hash() const {
     const std::uint64_t particles = sim::state_hash(world_.state());
-    // Rigid bodies folded in (FNV-style) so that either part changing changes the hash.
-    return world_.rigid() != nullptr ? (particles ^ world_.rigid()->hash()) * 0x100000001b3ull : particles;
+    // Rigid bodies folded in, so that either part changing changes the hash.
+    return world_.rigid() != nullptr ? sim::fold_hashes(particles, world_.rigid()->hash()) : particles;
 }
 
 std::string SceneRun::state_hash_hex() const {

@@ -680,8 +680,7 @@ void validate(const ViewOptions& o) {
     }
     if (o.exit_after < 0)
         throw sim::InputError("view: --exit-after must be >= 0 (got " + std::to_string(o.exit_after) + ")");
-    if (o.msaa_samples != -1 && o.msaa_samples != 0 && o.msaa_samples != 1 && o.msaa_samples != 2 &&
-        o.msaa_samples != 4 && o.msaa_samples != 8) {
+    if (o.msaa_samples != -1 && !render::supported_msaa_samples(o.msaa_samples)) {
         throw sim::InputError(
             "view: --msaa must be 0, 1, 2, 4 or 8, or -1 for 4 when still and off while running (got " +
             std::to_string(o.msaa_samples) + ")");
