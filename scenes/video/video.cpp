@@ -162,157 +162,219 @@ void title_card(render::Image& frame, const SceneDef& scene, const std::vector<s
     render::draw_text(frame, font, order, left, y, size, light);
 }
 
-}  // namespace
-
-VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
-    validate(options);
-    // One run per tile, each from its own description (a run holds a reference to it).
+// One description per tile, each with its variant's overrides (a run holds a
+// reference to its description, so they live apart).
+std::vector<std::unique_ptr<SceneDef>> tile_scenes(const SceneDef& scene, const std::vector<Override>& overrides,
+                                                   const VideoOptions& options) {
     std::vector<std::unique_ptr<SceneDef>> defs;
     if (options.compare.empty()) {
         defs.push_back(std::make_unique<SceneDef>(scene));
-    } else {
-        for (const std::string& name : options.compare) {
-            std::vector<Override> with = overrides;
-            if (name.find('=') != std::string::npos) {
-                with.push_back(parse_override(name));
-            } else {
-                with.push_back({"step.integrator", "\"" + name + "\""});
-            }
-            try {
-                defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
-            } catch (const SceneError& e) {
-                throw sim::InputError("video: --compare " + name + ": " + e.what());
-            }
+        return defs;
+    }
+    for (const std::string& name : options.compare) {
+        std::vector<Override> with = overrides;
+        if (name.find('=') != std::string::npos) {
+            with.push_back(parse_override(name));
+        } else {
+            with.push_back({"step.integrator", "\"" + name + "\""});
+        }
+        try {
+            defs.push_back(std::make_unique<SceneDef>(load_scene(scene.file, with)));
+        } catch (const SceneError& e) {
+            throw sim::InputError("video: --compare " + name + ": " + e.what());
         }
     }
-    std::vector<std::unique_ptr<SceneRun>> runs;
-    for (const auto& d : defs) runs.push_back(std::make_unique<SceneRun>(*d));
+    return defs;
+}
 
-    // Tiles keep the video's aspect ratio (a scene's camera is framed for it):
-    // the grid that gives them the largest size, side by side on a tie.
-    const int n = static_cast<int>(runs.size());
+// Where the tiles go. They keep the video's aspect ratio (a scene's camera is
+// framed for it): the grid that gives them the largest size, side by side on
+// a tie, centred in the frame.
+struct TileGrid {
+    int n = 1, cols = 1, rows = 1;
+    int tile_w = 0, tile_h = 0;  // px, even
+    int width = 0, height = 0;   // px, the frame's
+    int x(int i) const { return (i % cols) * tile_w + (width - cols * tile_w) / 2; }
+    int y(int i) const { return (i / cols) * tile_h + (height - rows * tile_h) / 2; }
+};
+
+TileGrid tile_grid(int n, const VideoOptions& options) {
+    TileGrid g;
+    g.n = n;
+    g.rows = n;
+    g.width = options.width;
+    g.height = options.height;
     const double aspect = static_cast<double>(options.width) / options.height;
-    int cols = 1, rows = n, tile_w = 0;
     for (int c = n; c >= 1; --c) {
         const int r = (n + c - 1) / c;
         const int w = static_cast<int>(std::min(static_cast<double>(options.width) / c, options.height / r * aspect));
-        if (w > tile_w) cols = c, rows = r, tile_w = w;
+        if (w > g.tile_w) g.cols = c, g.rows = r, g.tile_w = w;
     }
-    tile_w &= ~1;
-    const int tile_h = static_cast<int>(tile_w / aspect) & ~1;
-    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
-    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
-    // The description as a caption for the first seconds, unless a compare
-    // grid's free cell shows it already.
-    const bool caption = options.caption && !scene.description.empty() && cols * rows == n;
-    const double caption_seconds = std::min(4.0, 0.4 * seconds);             // s of video
-    const float text = std::max(13.0f, static_cast<float>(tile_h) / 22.0f);  // px, as the HUD's
-    std::string caption_text;  // the description wrapped to the tile, once
-    for (const std::string& line : wrap(scene.description, 0.9f * static_cast<float>(tile_w), 0.8f * text))
-        caption_text += (caption_text.empty() ? "" : "\n") + line;
-    const float caption_height =  // px, 1.25 lines of 0.8 text each
-        0.8f * text * 1.25f * static_cast<float>(std::count(caption_text.begin(), caption_text.end(), '\n') + 1);
+    g.tile_w &= ~1;
+    g.tile_h = static_cast<int>(g.tile_w / aspect) & ~1;
+    return g;
+}
 
-    const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
-    const std::string tag = ".tmp-" + std::to_string(getpid());
-    const fs::path temp = dir / ("." + options.output.filename().string() + tag);
-    const fs::path log = dir / ("." + options.output.filename().string() + tag + ".log");
+// The texts a tile gets besides its HUD: a --set variant's label, and the
+// scene's description as a caption for the first seconds (unless a compare
+// grid's free cell shows it already).
+struct TileTexts {
+    bool caption = false;
+    double caption_seconds = 0.0;  // s of video
+    float text = 13.0f;            // px, as the HUD's
+    std::string caption_text;      // the description wrapped to the tile
+    float caption_height = 0.0f;   // px
 
-    const auto context = render::create_context({});
-    render::Renderer renderer(*context);
-    VideoStats stats;
-    const auto start = Clock::now();
-    std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
-    const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
-    FILE* pipe = nullptr;
-    render::Image frame;
-    Progress progress("video", options.progress, frames);
-    double physics = 0.0, render_time = 0.0;  // s
-    try {
-        for (int k = 0; k < frames; ++k) {
-            const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
-            const auto p0 = Clock::now();
-            for (auto& run : runs) {
-                const double dt = run->step().dt;
-                while (run->time() + dt <= t + 1e-9 && run->advance()) {
-                }
-            }
-            const auto p1 = Clock::now();
-            std::vector<render::DrawList> lists;
-            for (const auto& run : runs) lists.push_back(run->draw_list(tile_w, tile_h));
-            share_plot_ranges(lists);
-            for (int i = 0; i < n; ++i) {
-                render::DrawList& list = lists[static_cast<std::size_t>(i)];
-                const bool labelled = !options.compare.empty() &&
-                                      options.compare[static_cast<std::size_t>(i)].find('=') != std::string::npos;
-                if (labelled) {
-                    // A --set variant: the HUD shows integrator and dt, the label what else differs.
-                    list.texts.push_back(
-                        render::Text{"--set " + options.compare[static_cast<std::size_t>(i)],
-                                     render::Vec2(0.5f * text, static_cast<float>(tile_h) - 1.6f * text), 0.85f * text,
-                                     render::Color{0.1f, 0.1f, 0.12f, 1}, true});
-                }
-                if (caption && t < caption_seconds) {
-                    // The first seconds say what the scene shows, across the bottom.
-                    list.texts.push_back(render::Text{
-                        caption_text,
-                        render::Vec2(0.5f * text,
-                                     static_cast<float>(tile_h) - caption_height - (labelled ? 2.2f : 0.8f) * text),
-                        0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
-                }
-                const render::Image tile =
-                    renderer.render(list, {.width = tile_w, .height = tile_h, .msaa_samples = 4});
-                if (frame.pixels.empty()) {
-                    frame.width = options.width;
-                    frame.height = options.height;
-                    frame.channels = tile.channels;
-                    frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
-                    if (cols * rows > n) {  // the free cell after the last tile
-                        title_card(frame, scene, options.compare,
-                                   (n % cols) * tile_w + (options.width - cols * tile_w) / 2,
-                                   (n / cols) * tile_h + (options.height - rows * tile_h) / 2, tile_w);
-                    }
-                    pipe = popen(ffmpeg_command(options, frame.channels, temp, log).c_str(), "w");
-                    if (pipe == nullptr)
-                        throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
-                }
-                blit(frame, tile, (i % cols) * tile_w + (options.width - cols * tile_w) / 2,
-                     (i / cols) * tile_h + (options.height - rows * tile_h) / 2);
-            }
-            const auto p2 = Clock::now();
-            physics += std::chrono::duration<double>(p1 - p0).count();
-            render_time += std::chrono::duration<double>(p2 - p1).count();
-            if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe) != frame.pixels.size()) {
-                // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
-                check_interrupt("video", "frame " + std::to_string(k));
-                throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
-                                         std::to_string(k) + ": " + read_all(log));
-            }
-            if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
-            char what[64];
-            std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
-                          (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
-            progress.step(what);
+    TileTexts(const SceneDef& scene, const VideoOptions& options, const TileGrid& grid, double seconds)
+        : caption(options.caption && !scene.description.empty() && grid.cols * grid.rows == grid.n),
+          caption_seconds(std::min(4.0, 0.4 * seconds)),
+          text(std::max(13.0f, static_cast<float>(grid.tile_h) / 22.0f)) {
+        for (const std::string& line : wrap(scene.description, 0.9f * static_cast<float>(grid.tile_w), 0.8f * text))
+            caption_text += (caption_text.empty() ? "" : "\n") + line;
+        // 1.25 lines of 0.8 text each
+        caption_height =
+            0.8f * text * 1.25f * static_cast<float>(std::count(caption_text.begin(), caption_text.end(), '\n') + 1);
+    }
+
+    // Adds tile i's texts at video time t (s) to its draw list.
+    void add(render::DrawList& list, const VideoOptions& options, std::size_t i, int tile_h, double t) const {
+        const bool labelled = !options.compare.empty() && options.compare[i].find('=') != std::string::npos;
+        if (labelled) {
+            // A --set variant: the HUD shows integrator and dt, the label what else differs.
+            list.texts.push_back(render::Text{"--set " + options.compare[i],
+                                              render::Vec2(0.5f * text, static_cast<float>(tile_h) - 1.6f * text),
+                                              0.85f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
         }
-        const int status = pclose(pipe);
-        pipe = nullptr;
+        if (caption && t < caption_seconds) {
+            // The first seconds say what the scene shows, across the bottom.
+            list.texts.push_back(render::Text{caption_text,
+                                              render::Vec2(0.5f * text, static_cast<float>(tile_h) - caption_height -
+                                                                            (labelled ? 2.2f : 0.8f) * text),
+                                              0.8f * text, render::Color{0.1f, 0.1f, 0.12f, 1}, true});
+        }
+    }
+};
+
+// ffmpeg behind a pipe, writing a temporary file (and its log) beside the
+// output; finish() renames it into place. Destroyed unfinished (an error, an
+// interrupt), it leaves nothing behind.
+class Encoder {
+public:
+    explicit Encoder(const VideoOptions& options) : options_(options) {
+        const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
+        const std::string tag = ".tmp-" + std::to_string(getpid());
+        temp_ = dir / ("." + options.output.filename().string() + tag);
+        log_ = dir / ("." + options.output.filename().string() + tag + ".log");
+    }
+    ~Encoder() {
+        if (finished_) return;
+        if (pipe_ != nullptr) pclose(pipe_);
+        std::error_code ec;
+        fs::remove(temp_, ec);
+        fs::remove(log_, ec);
+    }
+    Encoder(const Encoder&) = delete;
+    Encoder& operator=(const Encoder&) = delete;
+
+    bool started() const { return pipe_ != nullptr; }
+    void start(int channels) {
+        pipe_ = popen(ffmpeg_command(options_, channels, temp_, log_).c_str(), "w");
+        if (pipe_ == nullptr) throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+    }
+    // Frame k, whole.
+    void write(const render::Image& frame, int k) {
+        if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_) != frame.pixels.size()) {
+            // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
+            check_interrupt("video", "frame " + std::to_string(k));
+            throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
+                                     std::to_string(k) + ": " + read_all(log_));
+        }
+    }
+    void finish() {
+        const int status = pclose(pipe_);
+        pipe_ = nullptr;
         if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("video", "the end", signal);
         check_interrupt("video", "the end");
         if (status != 0) {
             throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
-                                     "): " + read_all(log));
+                                     "): " + read_all(log_));
         }
         std::error_code ec;
-        fs::rename(temp, options.output, ec);
-        if (ec) throw std::runtime_error("video: cannot write " + options.output.string() + ": " + ec.message());
-        fs::remove(log, ec);
-    } catch (...) {
-        if (pipe != nullptr) pclose(pipe);
-        std::error_code ec;
-        fs::remove(temp, ec);
-        fs::remove(log, ec);
-        throw;
+        fs::rename(temp_, options_.output, ec);
+        if (ec) throw std::runtime_error("video: cannot write " + options_.output.string() + ": " + ec.message());
+        fs::remove(log_, ec);
+        finished_ = true;
     }
+
+private:
+    const VideoOptions& options_;
+    fs::path temp_, log_;
+    FILE* pipe_ = nullptr;
+    bool finished_ = false;
+};
+
+}  // namespace
+
+VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
+    validate(options);
+    const std::vector<std::unique_ptr<SceneDef>> defs = tile_scenes(scene, overrides, options);
+    std::vector<std::unique_ptr<SceneRun>> runs;
+    for (const auto& d : defs) runs.push_back(std::make_unique<SceneRun>(*d));
+    const TileGrid grid = tile_grid(static_cast<int>(runs.size()), options);
+    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
+    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
+    const TileTexts texts(scene, options, grid, seconds);
+
+    const auto context = render::create_context({});
+    render::Renderer renderer(*context);
+    const auto start = Clock::now();
+    std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
+    const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
+    Encoder encoder(options);
+    render::Image frame;
+    Progress progress("video", options.progress, frames);
+    double physics = 0.0, render_time = 0.0;  // s
+    for (int k = 0; k < frames; ++k) {
+        const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
+        const auto p0 = Clock::now();
+        for (auto& run : runs) {
+            const double dt = run->step().dt;
+            while (run->time() + dt <= t + 1e-9 && run->advance()) {
+            }
+        }
+        const auto p1 = Clock::now();
+        std::vector<render::DrawList> lists;
+        for (const auto& run : runs) lists.push_back(run->draw_list(grid.tile_w, grid.tile_h));
+        share_plot_ranges(lists);
+        for (int i = 0; i < grid.n; ++i) {
+            render::DrawList& list = lists[static_cast<std::size_t>(i)];
+            texts.add(list, options, static_cast<std::size_t>(i), grid.tile_h, t);
+            const render::Image tile =
+                renderer.render(list, {.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4});
+            if (!encoder.started()) {  // the first tile says the pixel format
+                frame.width = options.width;
+                frame.height = options.height;
+                frame.channels = tile.channels;
+                frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
+                if (grid.cols * grid.rows > grid.n) {  // the free cell after the last tile
+                    title_card(frame, scene, options.compare, grid.x(grid.n), grid.y(grid.n), grid.tile_w);
+                }
+                encoder.start(frame.channels);
+            }
+            blit(frame, tile, grid.x(i), grid.y(i));
+        }
+        const auto p2 = Clock::now();
+        physics += std::chrono::duration<double>(p1 - p0).count();
+        render_time += std::chrono::duration<double>(p2 - p1).count();
+        encoder.write(frame, k);
+        if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
+        char what[64];
+        std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
+                      (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
+        progress.step(what);
+    }
+    encoder.finish();
+    VideoStats stats;
     stats.frames = frames;
     stats.physics_ms = 1e3 * physics / frames;
     stats.render_ms = 1e3 * render_time / frames;
