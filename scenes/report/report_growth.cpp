@@ -1,4 +1,5 @@
 #include "scenes/report/report_growth.h"
+#include "scenes/report/report_stages.h"
 
 #include "sim/mass_spring.h"
 #include "sim/ragdoll.h"
@@ -8,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -22,6 +22,7 @@
 namespace scenes {
 namespace {
 
+using report::fmt;
 using sim::Vec3;
 using Clock = std::chrono::steady_clock;
 
@@ -256,12 +257,6 @@ std::vector<double> time_system(const System& system, const GrowthTiming& timing
         seconds.push_back(t.best);
     }
     return seconds;
-}
-
-std::string fmt(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
 }
 
 // --- what the report writes --------------------------------------------------------------------

@@ -22,18 +22,20 @@ namespace odeint = boost::numeric::odeint;
 using S3 = std::array<double, 3>;
 using S6 = std::array<double, 6>;
 
+namespace pr = sim::problems;
+
 // The accelerations of the report's problems (unit-mass test particle).
 struct Ballistic {
-    void operator()(const S3&, const S3&, S3& a) const { a = {0.0, -9.81, 0.0}; }
+    void operator()(const S3&, const S3&, S3& a) const { a = {0.0, -pr::kGravity, 0.0}; }
 };
 struct Oscillator {  // k = m = 1
     void operator()(const S3& x, const S3&, S3& a) const {
         for (int k = 0; k < 3; ++k) a[k] = -x[k];
     }
 };
-struct Damped {  // k = m = 1, c = 0.2
+struct Damped {  // k = m = 1, c = 0.2 (sim::problems::kDamped)
     void operator()(const S3& x, const S3& v, S3& a) const {
-        for (int k = 0; k < 3; ++k) a[k] = -x[k] - 0.2 * v[k];
+        for (int k = 0; k < 3; ++k) a[k] = -x[k] - pr::kDamped.damping * v[k];
     }
 };
 struct Kepler {  // μ = 1
@@ -80,10 +82,20 @@ PeerRun integrate(std::string_view peer, Accel accel, const sim::Vec3& x0, const
 
 const std::vector<PeerInfo>& peers() {
     static const std::vector<PeerInfo> list = {
-        {"odeint_runge_kutta4", "rk4", 4, 4, true, true},
-        {"odeint_velocity_verlet", "velocity_verlet", 2, 1, true, true},
+        {.name = "odeint_runge_kutta4",
+         .ours = "rk4",
+         .order = 4,
+         .evaluations = 4,
+         .velocity_forces = true,
+         .batch = true},
+        {.name = "odeint_velocity_verlet",
+         .ours = "velocity_verlet",
+         .order = 2,
+         .evaluations = 1,
+         .velocity_forces = true,
+         .batch = true},
         // McLachlan's 4th-order symplectic Runge-Kutta-Nyström, 6 stages (5 new force evaluations per step).
-        {"odeint_rkn_mclachlan4", "rk4", 4, 5, false},
+        {.name = "odeint_rkn_mclachlan4", .ours = "rk4", .order = 4, .evaluations = 5, .velocity_forces = false},
     };
     return list;
 }
@@ -108,10 +120,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The problems' parameters, as the one-particle accelerations above have them.
-const sim::analytic::Oscillator kSpring{1.0, 1.0, 0.0};  // m = 1 kg, k = 1 N/m
-const sim::analytic::Oscillator kDamped{1.0, 1.0, 0.2};  // and c = 0.2 N·s/m (linear drag)
-constexpr double kKeplerMass = 1e-3;                     // kg, the test particle's (as kepler_model's)
 constexpr double kBallisticSpan = 30.0;  // s: a shot falls 4.3 km, to 290 m/s: inside the watchdog's 10 km and 500 m/s
 
 // Our World of the copies, one particle each (after `first` pinned ones).
@@ -122,7 +130,6 @@ constexpr double kBallisticSpan = 30.0;  // s: a shot falls 4.3 km, to 290 m/s: 
 // particle about a fixed attractor through CentralGravity (NewtonGravity
 // would make the copies attract each other, and cost O(n²)).
 sim::ParticleModel batch_model(std::string_view problem, const Copies& copies, std::size_t& first) {
-    namespace pr = sim::problems;
     sim::ParticleModel model;
     const std::size_t n = copies.x0.size();
     first = 0;
@@ -134,13 +141,14 @@ sim::ParticleModel batch_model(std::string_view problem, const Copies& copies, s
         model.particles.push_back({sim::Vec3::Zero(), sim::Vec3::Zero(), 1.0, true});
         sim::Springs springs;
         for (std::size_t c = 0; c < n; ++c) {
-            model.particles.push_back({copies.x0[c], copies.v0[c], kSpring.mass, false});
-            springs.list.push_back({0, static_cast<std::uint32_t>(c + 1), 0.0, kSpring.stiffness, 0.0});
+            model.particles.push_back({copies.x0[c], copies.v0[c], pr::kOscillator.mass, false});
+            springs.list.push_back({0, static_cast<std::uint32_t>(c + 1), 0.0, pr::kOscillator.stiffness, 0.0});
         }
         model.forces.push_back(std::move(springs));
-        if (problem == "damped") model.forces.push_back(sim::LinearDrag{kDamped.damping});
+        if (problem == "damped") model.forces.push_back(sim::LinearDrag{pr::kDamped.damping});
     } else if (problem == "kepler_e0.5" || problem == "kepler_e0.9") {
-        for (std::size_t c = 0; c < n; ++c) model.particles.push_back({copies.x0[c], copies.v0[c], kKeplerMass, false});
+        for (std::size_t c = 0; c < n; ++c)
+            model.particles.push_back({copies.x0[c], copies.v0[c], pr::kKeplerMass, false});
         model.forces.push_back(sim::CentralGravity{sim::Vec3::Zero(), pr::kKeplerMu});
     } else {
         throw sim::InputError("report: no batch of the problem '" + std::string(problem) + "'");
@@ -154,7 +162,7 @@ sim::ParticleModel batch_model(std::string_view problem, const Copies& copies, s
 struct BallisticBatch {
     void operator()(const double*, const double*, double* a, std::size_t n) const {
         std::fill(a, a + n, 0.0);
-        std::fill(a + n, a + 2 * n, -9.81);
+        std::fill(a + n, a + 2 * n, -pr::kGravity);
         std::fill(a + 2 * n, a + 3 * n, 0.0);
     }
 };
@@ -163,9 +171,9 @@ struct OscillatorBatch {  // k = m = 1
         for (std::size_t i = 0; i < 3 * n; ++i) a[i] = -x[i];
     }
 };
-struct DampedBatch {  // k = m = 1, c = 0.2
+struct DampedBatch {  // k = m = 1, c = 0.2 (sim::problems::kDamped)
     void operator()(const double* x, const double* v, double* a, std::size_t n) const {
-        for (std::size_t i = 0; i < 3 * n; ++i) a[i] = -x[i] - 0.2 * v[i];
+        for (std::size_t i = 0; i < 3 * n; ++i) a[i] = -x[i] - pr::kDamped.damping * v[i];
     }
 };
 // (__restrict parameters of a function of its own, as our force loops have
@@ -258,10 +266,9 @@ Copies batch_copies(const sim::Vec3& x0, const sim::Vec3& v0, int count) {
 }
 
 sim::Vec3 batch_exact(std::string_view problem, const sim::Vec3& x0, const sim::Vec3& v0, double t) {
-    namespace pr = sim::problems;
     if (problem == "ballistic") return sim::analytic::ballistic(x0, v0, pr::kShotGravity, t).x;
-    if (problem == "oscillator") return sim::analytic::oscillator(kSpring, x0, v0, t).x;
-    if (problem == "damped") return sim::analytic::oscillator(kDamped, x0, v0, t).x;
+    if (problem == "oscillator") return sim::analytic::oscillator(pr::kOscillator, x0, v0, t).x;
+    if (problem == "damped") return sim::analytic::oscillator(pr::kDamped, x0, v0, t).x;
     if (problem == "kepler_e0.5" || problem == "kepler_e0.9") return sim::analytic::kepler(pr::kKeplerMu, x0, v0, t).x;
     throw sim::InputError("report: no closed form of the problem '" + std::string(problem) + "'");
 }

@@ -1,0 +1,166 @@
+// The report's work-precision measurements: one timed run of a method on a
+// problem at one dt (its error against the closed form, its energy error,
+// its cost), swept over dt for every method, for odeint's steppers (and
+// their batch of copies), and at a game's 1/60 s in substeps. Its own file:
+// how error and cost are measured, apart from what is made of them
+// (report_analysis.cpp).
+#include "scenes/report/report_stages.h"
+
+#include "sim/integrators.h"
+#include "sim/world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace scenes::report {
+namespace {
+
+using sim::IntegratorInfo;
+using sim::analytic::PointState;
+using Clock = std::chrono::steady_clock;
+
+double energy_of(const sim::ParticleModel& model, std::size_t particle, const PointState& s) {
+    sim::ParticleModel at = model;
+    at.particles[particle].position = s.x;
+    at.particles[particle].velocity = s.v;
+    return sim::World(at).energy();
+}
+
+// The times the particle crosses x = 0 going from -x to +x, interpolated.
+struct Crossings {
+    std::vector<double> times;
+    double previous_x = 0.0;
+    double previous_t = 0.0;
+    void see(double t, double x) {
+        if (previous_x < 0.0 && x >= 0.0)
+            times.push_back(previous_t + (t - previous_t) * previous_x / (previous_x - x));
+        previous_x = x, previous_t = t;
+    }
+};
+
+// The errors of a finished run, into `s`: against the closed form, or (the
+// pendulum) the period between its first two crossings against the exact one.
+void score(const Problem& p, const sim::ParticleModel& model, const sim::World& world, double e0,
+           const Crossings& crossings, Sample& s) {
+    const double t = world.state().t;
+    s.evaluations = world.force_evaluations() / t;
+    s.exploded = world.verdict().exploded() || !world.state().x.get(p.particle).allFinite();
+    if (s.exploded) return;
+    if (p.exact) {
+        const PointState exact = p.exact(t);
+        s.error = (world.state().x.get(p.particle) - exact.x).norm();
+        s.energy_error = std::abs(world.energy() - energy_of(model, p.particle, exact)) / std::abs(e0);
+    } else {
+        s.error = crossings.times.size() >= 2 ? std::abs(crossings.times[1] - crossings.times[0] - p.period) : kNaN;
+        s.energy_error = std::abs(world.energy() - e0) / std::abs(e0);
+    }
+}
+
+// One method on one problem at one dt, timed as `timing` says.
+Sample measure(const Problem& p, const IntegratorInfo& info, double dt, Timing timing) {
+    int repetitions = timing.repetitions;
+    Sample s{.problem = p.name, .integrator = std::string(info.name), .dt = dt, .steps = std::lround(p.end / dt)};
+    const sim::ParticleModel model = p.model();
+    std::vector<double> times;
+    double total = 0.0;  // s, timed so far
+    for (int r = 0; r < repetitions || (total < timing.min_seconds && r < 10000); ++r) {
+        sim::World world(model);
+        const double e0 = world.energy();
+        Crossings crossings;
+        crossings.previous_x = world.state().x.get(p.particle).x();
+        const auto start = Clock::now();
+        for (long i = 0; i < s.steps && !world.verdict().exploded(); ++i) {
+            world.step({info.id, dt, 1});
+            if (!p.exact) crossings.see(world.state().t, world.state().x.get(p.particle).x());
+        }
+        times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+        total += times.back();
+        // A run of half a second or more times itself well enough: no repetitions.
+        if (times.back() >= 0.5) repetitions = r + 1;
+        if (r + 1 < repetitions || (total < timing.min_seconds && r + 1 < 10000)) continue;
+        score(p, model, world, e0, crossings, s);
+        if (s.exploded) break;
+    }
+    s.seconds = median(times) / p.end;
+    return s;
+}
+
+// One of odeint's steppers on one problem at one dt, timed as `timing` says.
+Sample measure_peer(const Problem& p, const PeerInfo& peer, double dt, Timing timing) {
+    Sample s{.problem = p.name, .integrator = peer.name, .dt = dt, .steps = std::lround(p.end / dt)};
+    const sim::ParticleModel model = p.model();
+    const sim::Vec3 x0 = model.particles[p.particle].position, v0 = model.particles[p.particle].velocity;
+    std::vector<double> times;
+    PeerRun run;
+    double total = 0.0;  // s, timed so far
+    for (int r = 0; r < timing.repetitions || (total < timing.min_seconds && r < 10000); ++r) {
+        run = run_peer(peer.name, p.name, x0, v0, dt, s.steps);
+        times.push_back(run.seconds);
+        total += run.seconds;
+        if (run.seconds >= 0.5) break;
+    }
+    const double t = static_cast<double>(s.steps) * dt;
+    s.seconds = median(times) / p.end;
+    s.evaluations = peer.evaluations * static_cast<double>(s.steps) / t;
+    s.exploded = !run.x.allFinite();
+    if (!s.exploded) s.error = (run.x - p.exact(t).x).norm();
+    return s;
+}
+
+// The peer's side of a batch of copies, against the method of ours it is compared with.
+BatchResult measure_peer_batch(const Problem& p, const PeerInfo& peer, const BatchTiming& timing) {
+    const sim::ParticleModel model = p.model();
+    const auto method = sim::integrator_from_name(peer.ours).value();
+    return measure_batch(p.name, method, peer.name, model.particles[p.particle].position,
+                         model.particles[p.particle].velocity, p.end, peer.order >= 4 ? p.dt4 : p.dt2, timing);
+}
+
+}  // namespace
+
+std::vector<Sample> measure_sweeps(const std::vector<Problem>& problems, const Settings& settings, Progress& progress) {
+    std::vector<Sample> out;
+    for (const Problem& p : problems) {
+        for (const IntegratorInfo& info : sim::kIntegrators) {
+            double dt = coarsest_dt(p, info);
+            for (int k = 0; k < settings.dt_count; ++k, dt /= 2.0) out.push_back(measure(p, info, dt, settings.timing));
+            progress.step(p.name + " " + std::string(info.name));
+        }
+    }
+    return out;
+}
+
+// odeint's steppers on the same problems and dt sweeps; then the same pairs on
+// a batch of 1000 copies of each problem.
+std::vector<PeerSweep> measure_peers(const std::vector<Problem>& problems, const Settings& settings,
+                                     Progress& progress) {
+    std::vector<PeerSweep> out;
+    for (const Problem& p : problems) {
+        if (!peer_knows(p.name)) continue;
+        for (const PeerInfo& peer : peers()) {
+            if (p.drag && !peer.velocity_forces) continue;
+            PeerSweep sweep{.peer = peer.name, .problem = p.name, .ours = peer.ours};
+            double dt = peer.order >= 4 ? p.dt4 : p.dt2;
+            for (int k = 0; k < settings.dt_count; ++k, dt /= 2.0)
+                sweep.samples.push_back(measure_peer(p, peer, dt, settings.timing));
+            if (peer.batch) sweep.batch = measure_peer_batch(p, peer, settings.batch);
+            out.push_back(sweep);
+        }
+        progress.step("peers " + p.name);
+    }
+    return out;
+}
+
+// A game's frame: dt = 1/60 s split into 1 to 32 substeps, every method, every problem.
+std::vector<Sample> measure_frames(const std::vector<Problem>& problems, const Settings& settings, Progress& progress) {
+    std::vector<Sample> out;
+    for (const Problem& p : problems) {
+        for (const IntegratorInfo& info : sim::kIntegrators) {
+            for (const int n : kFrameSubsteps) out.push_back(measure(p, info, 1.0 / 60.0 / n, settings.timing));
+        }
+        progress.step("frame budget " + p.name);
+    }
+    return out;
+}
+
+}  // namespace scenes::report
