@@ -104,7 +104,11 @@ fs::path write_report(const ReportOptions& options) {
             "report: gnuplot is not installed (Debian: apt-get install gnuplot-nox; `make test` does it)");
     }
     const InterruptScope interrupts;  // Ctrl+C: stop after the step under way, remove the folder
-    const fs::path tmp = temporary_folder(options.out);
+    // "out/report/" names the folder "out/report" (its parent is "out", where
+    // the temporary folder goes); "." and ".." name what they stand for.
+    fs::path out = fs::absolute(options.out).lexically_normal();
+    if (!out.has_filename()) out = out.parent_path();
+    const fs::path tmp = temporary_folder(out);
     try {
         const Settings settings = settings_for(options.quick);
         const Measurements m = measure(settings, options.progress, tmp);
@@ -113,13 +117,13 @@ fs::path write_report(const ReportOptions& options) {
         draw_plots(tmp, m);
         write_markdown(tmp, settings, m, f);
         check_interrupt("report", "the plots");
-        publish(tmp, options.out);
+        publish(tmp, out);
     } catch (...) {
         std::error_code ec;
         fs::remove_all(tmp, ec);
         throw;
     }
-    return options.out / "report.md";
+    return options.out / "report.md";  // as the user named it
 }
 
 }  // namespace scenes

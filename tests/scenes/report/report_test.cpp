@@ -34,8 +34,11 @@ namespace fs = std::filesystem;
 TEST(Report, QuickRunShowsTheOrdersTheDriftAndTheStabilityLimits) {
     const fs::path dir = fs::temp_directory_path() / ("plausible-report-test-" + std::to_string(getpid()));
     fs::remove_all(dir);
+    // --out an existing empty folder, given with a trailing slash as a shell's
+    // completion writes it: the report fills it.
+    fs::create_directories(dir / "report");
     const auto start = std::chrono::steady_clock::now();
-    scenes::write_report({.quick = true, .out = dir / "report"});
+    scenes::write_report({.quick = true, .out = (dir / "report").string() + "/"});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("[ measured ] report --quick took %.1f s\n", seconds);
     std::ifstream f(dir / "report" / "report.json");
