@@ -3,65 +3,7 @@
 // what was found, e.g.
 //   scenes/rope.toml:12:5: forces.springs[0].stiffness must be >= 0 and finite, in N/m (got -3)
 //
-// The format (all keys but `description` are optional; units SI, angles in degrees):
-//   description = "One sentence."
-//   frames = 600                      # frame steps the scene runs
-//   checkpoints = [0, 60, 120]        # frames the golden filmstrip shows
-//   [step]       integrator = "symplectic_euler", dt = 0.0166667 (s), substeps = 1
-//   [[particles]] name, position = [x, y, z] (m), velocity (m/s), mass (kg), pinned,
-//                 radius (m, drawing), color = "#rrggbb" or [r, g, b]
-//   [[groups]]   name, count, start (m), spacing (m, between neighbours), and the
-//                particle keys above (velocity, mass, pinned, radius, color)
-//   [forces.gravity] g = [0, -9.81, 0]      [forces.drag] c (N·s/m)
-//   [forces.quadratic_drag] c (N·s²/m²)     [forces.newton_gravity] G, softening
-//   [[forces.springs]] a, b (particle names or indices), rest_length (m; default:
-//                the initial distance), stiffness (N/m), damping (N·s/m)
-//   [forces.wind] velocity (m/s), air_density (kg/m³), drag_coefficient, gust_strength (m/s),
-//                gust_period (s), seed, bodies = [cloth or soft-body names], particles, radius (m)
-//   [[forces.buoyancy]] surface_height (m), fluid_density (kg/m³), radius (m), drag (N·s/m),
-//                particles (default all); g from [forces.gravity]
-//   [[forces.shock_waves]] center (m), start_time (s), speed (m/s), thickness (m), strength (N),
-//                reference_distance (m), max_radius (m)
-//   [[forces.control]] start, end (s), particles = [names or indices], force (N, on each)
-//   Bodies (their particles are named "<name>[k]"; links: link = "springs"|"constraints",
-//                stiffness (N/m), damping (N·s/m), compliance (m/N), tethers, strain_colors;
-//                ropes also contain_explosion: its explosion freezes it and the run goes on):
-//   [[ropes]]    name, start, end (m), segments, mass (kg, whole rope), radius (m), pin_start,
-//                pin_end, color, and the link keys
-//   [[cloths]]   name, corner, u, v (m, the two sides), nx, ny (nodes), mass, radius, shear,
-//                bend (stiffness factors), pins = "none"|"corners"|"edge"|"all", color, link keys
-//   [[soft_bodies]] name, corner, size (m), nx, ny, nz, mass, radius, velocity (m/s), color,
-//                link keys, yield_strain, creep (1/s), max_strain (plastic when yield_strain > 0)
-//   [[emitters]] name, count, position (m), direction, cone (deg), speed (m/s), speed_jitter,
-//                rate (particles/s; each lives count / rate s), seed, mass (kg), radius (m), color
-//   Rigid bodies (ODE; a scene without them makes no ODE world):
-//   [rigid]      gravity (m/s², default [0, -9.81, 0]), quickstep, iterations, friction, restitution, bounce_velocity
-//   (m/s), erp, cfm,
-//                ground, ground_height (m), seed, sleep, sleep_speed (m/s, RMS), sleep_time (s),
-//                self_collision, position_iterations, speculative_stops; the [[colliders]] are static
-//                geometry for bodies too
-//   [[bodies]]   name, shape = "box"|"sphere"|"capsule"|"cylinder", size (m: box extents; radius,
-//                length), mass (kg) or density (kg/m³), position (m), rotation ([x, y, z] deg),
-//                velocity (m/s), angular_velocity (deg/s), com (m, in the shape's frame), color
-//                or parts = [{shape, size, offset (m), rotation, density}, ...] (a compound body)
-//   [[ragdolls]] name, height (m), mass (kg), position (m, pelvis), rotation, velocity (m/s),
-//                angular_velocity (deg/s), joint_friction (N·m), color; bones are "<name>.<bone>"
-//   [[joints]]   type = "ball"|"hinge"|"universal"|"slider"|"fixed", a, b (body names; b absent:
-//                the world), anchor (m), axis, axis2, lo, hi (deg; m for sliders), lo2, hi2
-//                (universal: axis2; ball: swing about axis2 × axis), lo3, hi3 (ball: twist),
-//                stop_stiffness, stop_damping, motor_velocity (deg/s; m/s), motor_max_force
-//   [constraints] iterations (Gauss-Seidel sweeps per substep)
-//   [collisions] restitution, friction, rest_speed (m/s), particles (particle-particle, bool;
-//                also a cloth's self-collision when its radius is under half its link length)
-//   [[colliders]] shape = "plane" (normal, offset m) | "sphere" (center, radius) |
-//                "box" (center, half_extents, rotation = [x, y, z] degrees) | "capsule" (a, b, radius);
-//                color; visible (planes at the ground are not drawn twice)
-//   [watchdog]   enabled, max_speed (m/s), world_half_extent (m), energy_growth, energy_floor (J)
-//   [camera]     projection = "perspective"|"orthographic", eye, target, up, fov (deg), height (m)
-//   [view]       ground, ground_height (m), trail_frames, velocity_arrows (s), force_arrows (m/N), energy_plot, hud
-//   [[ghosts]]   particle, solution = "ballistic"|"oscillator"|"kepler"|"pendulum",
-//                anchor (oscillator, pendulum: the pinned particle), center (kepler);
-//                or body (a rigid body's centre of mass), solution = "ballistic"
+// The format, every table and key with its unit, default and range: docs/scene-format.md.
 //
 // This file is the loader's outline: parse the text, apply the --set
 // overrides, then read the sections in order, one reader per section family
