@@ -22,10 +22,7 @@ sim::Collider read_collider(const Section& s, const std::string& shape) {
         s.only(keys::box_collider);
         sim::BoxCollider b;
         b.center = s.vec3("center", b.center, "m");
-        b.half_extents = s.vec3("half_extents", b.half_extents, "m");
-        for (int a = 0; a < 3; ++a) {
-            if (!(b.half_extents[a] > 0)) s.fail("half_extents", "must be three lengths > 0, in m");
-        }
+        b.half_extents = s.lengths("half_extents", b.half_extents, "must be three lengths > 0, in m");
         b.rotation = s.rotation().toRotationMatrix();
         return b;
     }

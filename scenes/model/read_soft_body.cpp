@@ -12,10 +12,7 @@ void read_soft_bodies(SceneBuilder& b, const Section& top) {
         s.only(keys::soft_body);
         sim::LatticeDef d;
         d.corner = s.vec3("corner", d.corner, "m");
-        d.size = s.vec3("size", d.size, "m");
-        for (int a = 0; a < 3; ++a) {
-            if (!(d.size[a] > 0)) s.fail("size", "must have three sizes > 0, in m");
-        }
+        d.size = s.lengths("size", d.size, "must have three sizes > 0, in m");
         d.nx = static_cast<int>(s.integer("nx", d.nx, 2, 256));
         d.ny = static_cast<int>(s.integer("ny", d.ny, 2, 256));
         d.nz = static_cast<int>(s.integer("nz", d.nz, 2, 256));

@@ -186,6 +186,14 @@ sim::Vec3 Section::vec3(std::string_view key, const sim::Vec3& fallback, const c
     return v;
 }
 
+sim::Vec3 Section::lengths(std::string_view key, const sim::Vec3& fallback, const char* refusal) const {
+    const sim::Vec3 v = vec3(key, fallback, "m");
+    for (int a = 0; a < 3; ++a) {
+        if (!(v[a] > 0)) fail(key, refusal);
+    }
+    return v;
+}
+
 sim::Vec3 Section::direction(std::string_view key, const sim::Vec3& fallback) const {
     const sim::Vec3 v = vec3(key, fallback, "(a direction)");
     if (v.norm() < 1e-9) fail(key, "must be a non-zero direction");

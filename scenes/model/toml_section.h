@@ -77,6 +77,8 @@ public:
                      std::initializer_list<std::string_view> words) const;
     // [x, y, z] of finite numbers, each within +-limit.
     sim::Vec3 vec3(std::string_view key, const sim::Vec3& fallback, const char* unit, double limit = 1e9) const;
+    // [x, y, z] in m, each > 0 (extents, sizes); `refusal` is the message when one is not.
+    sim::Vec3 lengths(std::string_view key, const sim::Vec3& fallback, const char* refusal) const;
     // A non-zero [x, y, z], normalized.
     sim::Vec3 direction(std::string_view key, const sim::Vec3& fallback) const;
     // `rotation` = [x, y, z] in degrees, turned about x, then y, then z (each within +-360).
