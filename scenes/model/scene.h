@@ -4,7 +4,8 @@
 // render, check, video, view, report, tests) builds its worlds from one.
 //
 // Scene files are TOML (scenes/<name>.toml); scenes/model/scene_file.cpp
-// reads them and documents every key.
+// reads them (one reader per section, listed in scene_builder.h), and
+// docs/scene-format.md documents every key.
 //
 // The model room links sim and toml++ only: how a scene looks is plain data
 // here (Color, CameraDef), and scenes/draw turns it into render's types.
