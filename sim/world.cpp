@@ -36,6 +36,37 @@ ParticleModel validated(ParticleModel model) {
 
 }  // namespace
 
+Systems systems_of(const ParticleModel& model, const WatchdogLimits& watchdog) {
+    Systems s;
+    s.particles = !model.particles.empty();
+    for (const ForceDef& f : model.forces) {
+        if (const auto* springs = std::get_if<Springs>(&f)) {
+            s.springs = true;
+            s.plasticity = s.plasticity || (springs->plasticity.enabled() && !springs->list.empty());
+        }
+    }
+    s.constraints = !model.constraints.empty();
+    // Particles collide with the colliders, each other, and (one way) the
+    // rigid bodies (which meet the colliders inside ODE).
+    s.collisions = s.particles && (!model.collisions.empty() || !model.rigid.empty());
+    s.emitters = !model.emitters.empty();
+    s.rigid = !model.rigid.empty();
+    s.watchdog = watchdog.enabled;
+    return s;
+}
+
+std::vector<std::string> Systems::names() const {
+    std::vector<std::string> out;
+    const std::pair<bool, const char*> all[] = {
+        {particles, "particles"},   {springs, "springs"},       {constraints, "constraints"},
+        {collisions, "collisions"}, {plasticity, "plasticity"}, {emitters, "emitters"},
+        {rigid, "rigid"},           {watchdog, "watchdog"}};
+    for (const auto& [present, name] : all) {
+        if (present) out.push_back(name);
+    }
+    return out;
+}
+
 World::World(ParticleModel model)
     : model_(validated(std::move(model))),
       state_(make_state(model_.particles)),
@@ -55,10 +86,7 @@ World::World(ParticleModel model)
     }
     radius_.reserve(model_.particles.size());
     for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
-    stages_.constrained = !model_.constraints.empty();
-    // Particles collide with the colliders, each other, and (one way) the rigid bodies.
-    stages_.colliding = !model_.collisions.empty() || (rigid_ && state_.size() > 0);
-    stages_.plastic = std::any_of(rest0_.begin(), rest0_.end(), [](const auto& r) { return !r.empty(); });
+    systems_ = systems_of(model_, watchdog_);
     initial_energy_ = energy();
 }
 
@@ -72,6 +100,7 @@ void World::set_watchdog(const WatchdogLimits& limits) {
         }
     }
     watchdog_ = limits;
+    systems_.watchdog = limits.enabled;
     initial_energy_ = energy();
 }
 
@@ -272,7 +301,7 @@ void World::plan_next_sample() {
 template <class Stopwatch>
 void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     const double h = settings.dt / settings.substeps;
-    const bool constrained = stages_.constrained, colliding = stages_.colliding, plastic = stages_.plastic;
+    const bool constrained = systems_.constraints, colliding = systems_.collisions, plastic = systems_.plasticity;
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         for (const Emitter& emitter : model_.emitters) {
             if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;

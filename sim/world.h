@@ -62,6 +62,23 @@ struct Drag {
     double damping_ratio = 0.8;  // 1: critically damped (>= 0)
 };
 
+// The systems a World of `model` runs, decided once, here: World::step runs
+// these stages and no others, and `run --json` lists them by name (docs/design.md:
+// a scene pays only for what it declares).
+struct Systems {
+    bool particles = false;    // forces and integration (any particle)
+    bool springs = false;      // a spring generator: inside the particles' force evaluations
+    bool constraints = false;  // XPBD projection
+    bool collisions = false;   // particles against colliders, each other and rigid bodies
+    bool plasticity = false;   // plastic springs' rest lengths creep
+    bool emitters = false;     // births at the nozzles
+    bool rigid = false;        // ODE
+    bool watchdog = false;
+    // "particles", "springs", ... in stage order, the ones present.
+    std::vector<std::string> names() const;
+};
+Systems systems_of(const ParticleModel& model, const WatchdogLimits& watchdog);
+
 class World {
 public:
     // Validates the model (InputError) and builds the state at t = 0.
@@ -118,6 +135,7 @@ public:
         }
     };
     const SystemTimes& times() const { return times_; }
+    const Systems& systems() const { return systems_; }
 
     const ParticleModel& model() const { return model_; }
     // The force generators as they are now: plastic springs' rest lengths
@@ -207,9 +225,7 @@ private:
     Vec3Array x_start_;           // positions at the start of the substep
     Vec3Array x_predicted_;       // positions after the integrator, before the constraints
     std::vector<double> lambda_;  // XPBD multipliers of the substep
-    struct Stages {               // which stages the model uses (fixed once built)
-        bool constrained = false, colliding = false, plastic = false;
-    } stages_;
+    Systems systems_;             // the stages step() runs (systems_of, the watchdog's as set)
     CollisionScratch collision_scratch_;
     std::unique_ptr<RigidWorld> rigid_;
     std::vector<MovingCollider> body_colliders_;  // rebuilt before each collision pass

@@ -79,8 +79,8 @@ void warn_jointed_mass_ratios(SceneBuilder& b) {
         if (j.b < 0) continue;
         const auto ja = static_cast<std::size_t>(j.a), jb = static_cast<std::size_t>(j.b);
         const double ma = sim::mass_of(m.bodies[ja]), mb = sim::mass_of(m.bodies[jb]);
-        const double ratio = std::max(ma, mb) / std::min(ma, mb);
-        if (ratio <= 10.0) continue;
+        const double ratio = sim::mass_ratio(ma, mb);
+        if (ratio <= sim::kSlowMassRatio) continue;
         std::ostringstream w;
         w.precision(3);
         w << b.r.where(b.joint_nodes[k]) << ": " << b.scene.body_names[ja] << " (" << ma << " kg) and "
