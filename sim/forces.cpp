@@ -138,7 +138,7 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 
 }  // namespace
 
-void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f) const {
+void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const {
     if (has_field_) {
         field_pass(in, f, false);
     } else {
@@ -146,10 +146,10 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f) const {
     }
     for (std::size_t k = 0; k < others_.size(); ++k) {
         if (const auto* springs = std::get_if<Springs>(others_[k])) {
-            if (plans_[k].zero_rest) {
-                accumulate(*springs, in, f);  // what the fast pass would fall back to
+            if (plans_[k].few) {
+                accumulate(*springs, in, f);  // what the fast pass would fall back to (no call on the way)
             } else {
-                accumulate(*springs, plans_[k], in, f);
+                accumulate(*springs, plans_[k], in, f, skip_pinned);
             }
         } else {
             std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);
@@ -165,14 +165,16 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
         field_pass(in, a, true);  // one pass: force and M⁻¹ together
         return;
     }
-    sum_forces(in, a);
+    // A pinned particle's acceleration is its force times 0: the spring pass
+    // may leave its sum out (see accumulate's skip_pinned).
+    sum_forces(in, a, true);
     scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }
 
 void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                                          const Vec3Span& f, Jacobians& jac) {
     const ForceInput in = input(t, first, x, v);
-    sum_forces(in, f);
+    sum_forces(in, f, false);
     for (const ForceDef& force : *forces_) {
         std::visit([&](const auto& g) { accumulate_jacobians(g, in, jac); }, force);
     }
