@@ -66,6 +66,8 @@ private:
     // f = every generator's force; skip_pinned: pinned particles' sums may be
     // left out (for accelerations, see the spring pass).
     void sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;
+    // a = M⁻¹ (field + central_only_'s force), in one or two passes.
+    void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every
@@ -81,6 +83,8 @@ private:
     const std::vector<double>* mass_;
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;
+    const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
+    bool wide_central_ = false;                     // CentralGravity's AVX2 pass (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
 };
 
