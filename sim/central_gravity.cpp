@@ -24,9 +24,17 @@ namespace {
 // (GCC ignores it on local pointers, and then gives up vectorising for the
 // number of overlaps it would have to test), as the field pass has it. Its
 // square root and division are most of a Kepler step.
-void central_loop(const double* __restrict x, const double* __restrict y, const double* __restrict z,
-                  const double* __restrict m, double* __restrict fx, double* __restrict fy, double* __restrict fz,
-                  std::size_t n, double cx, double cy, double cz, double mu) {
+//   f += -m μ d / r³                     (accumulate)
+//   a = (f + -m μ d / r³) · (1/m)        (kToAcceleration: the step's M⁻¹ in
+//                                         the same pass, the same products)
+// kFromZero: f starts at +0 (no field force), added as the zero pass and
+// accumulate would (+0 + -0 is +0: the addition stays).
+template <bool kFromZero, bool kToAcceleration>
+[[gnu::always_inline]] inline void central_loop(const double* __restrict x, const double* __restrict y,
+                                                const double* __restrict z, const double* __restrict m,
+                                                const double* __restrict inv_m, double* __restrict fx,
+                                                double* __restrict fy, double* __restrict fz, std::size_t n, double cx,
+                                                double cy, double cz, double mu) {
     for (std::size_t i = 0; i < n; ++i) {
         const double dx = x[i] - cx, dy = y[i] - cy, dz = z[i] - cz;
         const double r2 = dx * dx + dy * dy + dz * dz;
@@ -37,17 +45,74 @@ void central_loop(const double* __restrict x, const double* __restrict y, const 
         const double centre = static_cast<double>(r2 == 0.0);
         const double safe = r2 + centre;
         const double s = (1.0 - centre) * (-m[i] * mu / (safe * std::sqrt(safe)));
-        fx[i] += s * dx;
-        fy[i] += s * dy;
-        fz[i] += s * dz;
+        double ax = (kFromZero ? 0.0 : fx[i]) + s * dx;
+        double ay = (kFromZero ? 0.0 : fy[i]) + s * dy;
+        double az = (kFromZero ? 0.0 : fz[i]) + s * dz;
+        if constexpr (kToAcceleration) ax *= inv_m[i], ay *= inv_m[i], az *= inv_m[i];
+        fx[i] = ax, fy[i] = ay, fz[i] = az;
     }
+}
+
+using CentralLoop = void (*)(const double*, const double*, const double*, const double*, const double*, double*,
+                             double*, double*, std::size_t, double, double, double, double);
+
+template <bool kFromZero, bool kToAcceleration, typename... A>
+void central_base(A... a) {
+    central_loop<kFromZero, kToAcceleration>(a...);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+// Twice as wide where the CPU has AVX2 (chosen at run time, as the spring
+// pass): square roots, divisions, products and sums are correctly rounded at
+// any width and -ffp-contract=off forbids fusing, so both builds give the
+// same bits (tests/sim/central_gravity_test.cpp). The square root and the
+// division are what the wider registers speed up.
+template <bool kFromZero, bool kToAcceleration, typename... A>
+[[gnu::target("avx2")]] void central_avx2(A... a) {
+    central_loop<kFromZero, kToAcceleration>(a...);
+}
+#endif
+
+template <bool kFromZero, bool kToAcceleration>
+CentralLoop central_pass(bool wide) {
+    using P = const double*;
+    using Q = double*;
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (wide)
+        return &central_avx2<kFromZero, kToAcceleration, P, P, P, P, P, Q, Q, Q, std::size_t, double, double, double,
+                             double>;
+#endif
+    (void)wide;
+    return &central_base<kFromZero, kToAcceleration, P, P, P, P, P, Q, Q, Q, std::size_t, double, double, double,
+                         double>;
+}
+
+void run(CentralLoop loop, const CentralGravity& gravity, const ForceInput& in, Vec3Span f) {
+    loop(in.x.c[0], in.x.c[1], in.x.c[2], in.mass, in.inv_mass, f.c[0], f.c[1], f.c[2], f.n, gravity.center.x(),
+         gravity.center.y(), gravity.center.z(), gravity.mu);
 }
 
 }  // namespace
 
+bool wide_central_pass_available() {
+#if defined(__x86_64__) && defined(__GNUC__)
+    return __builtin_cpu_supports("avx2");
+#else
+    return false;
+#endif
+}
+
+void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f, bool wide) {
+    run(central_pass<false, false>(wide), gravity, in, f);
+}
+
 void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f) {
-    central_loop(in.x.c[0], in.x.c[1], in.x.c[2], in.mass, f.c[0], f.c[1], f.c[2], f.n, gravity.center.x(),
-                 gravity.center.y(), gravity.center.z(), gravity.mu);
+    static const bool wide = wide_central_pass_available();
+    accumulate(gravity, in, f, wide);
+}
+
+void to_acceleration(const CentralGravity& gravity, const ForceInput& in, Vec3Span a, bool from_zero, bool wide) {
+    run(from_zero ? central_pass<true, true>(wide) : central_pass<false, true>(wide), gravity, in, a);
 }
 
 double potential_energy(const CentralGravity& gravity, const ForceInput& in) {

@@ -21,6 +21,15 @@ void validate(const CentralGravity& gravity, std::size_t particle_count);
 constexpr bool is_local(const CentralGravity&) { return true; }
 // A particle at the centre itself has no direction to fall in: no force.
 void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f);
+// The same, in the pinned build (wide = false) or the AVX2 one (the same
+// bits; accumulate above takes it where the CPU has it).
+void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f, bool wide);
+bool wide_central_pass_available();
+// The last generator and the step's M⁻¹ in one pass: a = (a + f) · (1/m),
+// a holding the other forces, N (or, from_zero, nothing yet: a = (+0 + f) ·
+// (1/m)). The operations of a zero pass, accumulate and a multiply by the
+// inverse mass, per particle, so their bits.
+void to_acceleration(const CentralGravity& gravity, const ForceInput& in, Vec3Span a, bool from_zero, bool wide);
 // U = -Σ m_i μ / |d_i| over moving particles (a pinned one's is constant: left out).
 double potential_energy(const CentralGravity& gravity, const ForceInput& in);
 // ∂f_i/∂x_i = -m_i μ (I/r³ - 3 d dᵀ/r⁵), r = |d_i| (no coupling between

@@ -30,7 +30,7 @@ void validate_forces(const std::vector<ForceDef>& forces, std::size_t particle_c
 
 ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                                const std::vector<double>& inv_mass)
-    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass) {
+    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_central_(wide_central_pass_available()) {
     for (const ForceDef& force : forces) {
         all_local_ = all_local_ && std::visit([](const auto& g) { return is_local(g); }, force);
         if (const auto* gravity = std::get_if<UniformGravity>(&force)) {
@@ -48,6 +48,7 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
         }
         has_field_ = true;
     }
+    if (others_.size() == 1) central_only_ = std::get_if<CentralGravity>(others_[0]);
 }
 
 ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const {
@@ -131,7 +132,7 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 
 }  // namespace
 
-void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f) const {
+void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const {
     if (has_field_) {
         field_pass(in, f, false);
     } else {
@@ -139,15 +140,24 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f) const {
     }
     for (std::size_t k = 0; k < others_.size(); ++k) {
         if (const auto* springs = std::get_if<Springs>(others_[k])) {
-            if (plans_[k].zero_rest) {
-                accumulate(*springs, in, f);  // what the fast pass would fall back to
+            if (plans_[k].few) {
+                accumulate(*springs, in, f);  // what the fast pass would fall back to (no call on the way)
             } else {
-                accumulate(*springs, plans_[k], in, f);
+                accumulate(*springs, plans_[k], in, f, skip_pinned);
             }
         } else {
             std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);
         }
     }
+}
+
+// A fixed attractor alone (a swarm of test particles; with a field or not):
+// its pass also applies M⁻¹, and starts from zero itself when there is no
+// field (one pass instead of zero, accumulate and scale). Out of line: the
+// spring path's fixed cost stays as it was.
+[[gnu::noinline]] void ParticleForces::central_acceleration(const ForceInput& in, const Vec3Span& a) const {
+    if (has_field_) field_pass(in, a, false);
+    to_acceleration(*central_only_, in, a, !has_field_, wide_central_);
 }
 
 void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
@@ -158,14 +168,20 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
         field_pass(in, a, true);  // one pass: force and M⁻¹ together
         return;
     }
-    sum_forces(in, a);
+    if (central_only_ != nullptr) {
+        central_acceleration(in, a);
+        return;
+    }
+    // A pinned particle's acceleration is its force times 0: the spring pass
+    // may leave its sum out (see accumulate's skip_pinned).
+    sum_forces(in, a, true);
     scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }
 
 void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                                          const Vec3Span& f, Jacobians& jac) {
     const ForceInput in = input(t, first, x, v);
-    sum_forces(in, f);
+    sum_forces(in, f, false);
     for (const ForceDef& force : *forces_) {
         std::visit([&](const auto& g) { accumulate_jacobians(g, in, jac); }, force);
     }

@@ -48,7 +48,9 @@ public:
 
     // The net force on every particle at (t, x, v), N, pinned ones included:
     // for drawing force arrows (not counted as an evaluation).
-    void net_force(double t, ConstVec3Span x, ConstVec3Span v, Vec3Span f) const { sum_forces(input(t, 0, x, v), f); }
+    void net_force(double t, ConstVec3Span x, ConstVec3Span v, Vec3Span f) const {
+        sum_forces(input(t, 0, x, v), f, false);
+    }
 
     // Potential energy of every generator at (t, x, v), J.
     double potential_energy(double t, ConstVec3Span x, ConstVec3Span v) const;
@@ -61,7 +63,11 @@ private:
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
     void field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const;
-    void sum_forces(const ForceInput& in, const Vec3Span& f) const;
+    // f = every generator's force; skip_pinned: pinned particles' sums may be
+    // left out (for accelerations, see the spring pass).
+    void sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;
+    // a = M⁻¹ (field + central_only_'s force), in one or two passes.
+    void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every
@@ -77,6 +83,8 @@ private:
     const std::vector<double>* mass_;
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;
+    const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
+    bool wide_central_ = false;                     // CentralGravity's AVX2 pass (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
 };
 
