@@ -1,0 +1,144 @@
+// The viewer's ImGui panel: the verdict, the step (integrator, dt, substeps,
+// time scale), the overlays, the scene's parameters as sliders, live plots.
+#include "scenes/view/viewer.h"
+
+#include <imgui.h>
+
+namespace scenes::view {
+
+// What the run is and where: the description, frame and time, the verdict,
+// the run buttons and the speed.
+void Viewer::panel_run_controls() {
+    ImGui::TextWrapped("%s", def_->description.c_str());
+    ImGui::Text("frame %d   t = %.3f s", run_->frame(), run_->time());
+    if (run_->verdict().exploded()) {
+        ImGui::TextColored(ImVec4(0.9f, 0.1f, 0.1f, 1), "%s", run_->verdict().message(def_->name).c_str());
+    }
+    if (ImGui::Button(paused_ ? "Resume (Space)" : "Pause (Space)")) paused_ = !paused_;
+    ImGui::SameLine();
+    if (ImGui::Button("Step")) step_once();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(history_.empty());
+    if (ImGui::Button("Back")) step_back();
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    if (ImGui::Button("Reset")) reset();
+    ImGui::Text("%zu stored states to step back through", history_.size());
+    ImGui::SliderFloat("speed", &time_scale_, 1.0f / 64.0f, 4.0f, "%.3fx", ImGuiSliderFlags_Logarithmic);
+}
+
+// The integrator, dt and substeps; a refused change is shown in red.
+void Viewer::panel_step() {
+    if (!ImGui::CollapsingHeader("Step", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    sim::StepSettings step = run_->step();
+    bool changed = false;
+    const char* current = sim::integrator_info(step.integrator).name.data();
+    if (ImGui::BeginCombo("integrator", current)) {
+        for (const auto& info : sim::kIntegrators) {
+            if (ImGui::Selectable(info.name.data(), info.id == step.integrator)) {
+                step.integrator = info.id;
+                changed = true;
+            }
+        }
+        ImGui::EndCombo();
+    }
+    auto dt_ms = static_cast<float>(1e3 * step.dt);
+    constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;  // typed values too
+    if (ImGui::SliderFloat("dt (ms)", &dt_ms, 0.1f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp)) {
+        step.dt = 1e-3 * dt_ms;
+        changed = true;
+    }
+    if (ImGui::SliderInt("substeps", &step.substeps, 1, 64, "%d", kClamp)) changed = true;
+    if (changed) {
+        try {
+            run_->set_step(step);
+        } catch (const sim::InputError& e) {
+            error_ = e.what();
+        }
+    }
+}
+
+// Drawing only: the run goes on as it was.
+void Viewer::panel_overlays() {
+    if (!ImGui::CollapsingHeader("Overlays")) return;
+    // Drawing only: the run goes on as it was.
+    View& v = def_->view;
+    ImGui::Checkbox("title and numbers", &v.hud);
+    ImGui::SameLine();
+    ImGui::Checkbox("energy plot", &v.energy_plot);
+    ImGui::SliderInt("trail (frames)", &v.trail_frames, 0, 600);
+    auto arrows = [](const char* label, double& value, float lo, float hi) {
+        auto f = static_cast<float>(value);
+        if (ImGui::SliderFloat(label, &f, 0.0f, hi, f == 0.0f ? "off" : "%.3g", ImGuiSliderFlags_Logarithmic)) {
+            value = f < lo ? 0.0 : f;
+        }
+    };
+    arrows("velocity arrows (s)", v.velocity_arrows, 1e-3f, 10.0f);
+    arrows("force arrows (m/N)", v.force_arrows, 1e-6f, 1e4f);
+}
+
+// The scene file's numbers as sliders; a change rebuilds the scene from the file.
+void Viewer::panel_parameters() {
+    if (parameters_.empty() || !ImGui::CollapsingHeader("Scene parameters")) return;
+    ImGui::TextWrapped("The scene file's numbers; changing one rebuilds the scene from the file.");
+    for (std::size_t k = 0; k < parameters_.size(); ++k) {
+        const double v = parameters_[k].value;
+        const float lo = v > 0 ? static_cast<float>(v / 10) : v < 0 ? static_cast<float>(v * 10) : -10.0f;
+        const float hi = v > 0 ? static_cast<float>(v * 10) : v < 0 ? static_cast<float>(v / 10) : 10.0f;
+        ImGui::PushID(static_cast<int>(k));
+        const bool log = v > 0 && !parameters_[k].integer;
+        ImGui::SliderFloat(parameters_[k].key.c_str(), &edited_[k], lo, hi, parameters_[k].integer ? "%.0f" : "%.4g",
+                           log ? ImGuiSliderFlags_Logarithmic : 0);
+        if (ImGui::IsItemDeactivatedAfterEdit()) rebuild();  // on release: one rebuild per change
+        ImGui::PopID();
+    }
+    if (!error_.empty()) ImGui::TextColored(ImVec4(0.9f, 0.1f, 0.1f, 1), "%s", error_.c_str());
+}
+
+// Live plots: energy, each system's ms per frame step, rendering.
+void Viewer::panel_plots() {
+    if (!ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const auto e = energy_.data();
+    char label[64];
+    std::snprintf(label, sizeof label, "E = %.5g J", e.empty() ? 0.0 : e.back());
+    ImGui::PlotLines("energy", e.data(), static_cast<int>(e.size()), 0, label, FLT_MAX, FLT_MAX, ImVec2(0, 70));
+    static constexpr std::array<const char*, 6> kNames{"particles",  "constraints", "collisions",
+                                                       "plasticity", "rigid",       "watchdog"};
+    for (std::size_t k = 0; k < kNames.size(); ++k) {
+        const auto d = system_ms_[k].data();
+        if (d.empty() || *std::max_element(d.begin(), d.end()) <= 0.0f) continue;  // a system the scene lacks
+        std::snprintf(label, sizeof label, "%.3f ms/frame", d.back());
+        ImGui::PlotLines(kNames[k], d.data(), static_cast<int>(d.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
+    }
+    const auto r = render_ms_.data();
+    std::snprintf(label, sizeof label, "%.1f ms/frame", r.empty() ? 0.0 : r.back());
+    ImGui::PlotLines("rendering", r.data(), static_cast<int>(r.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
+}
+
+void Viewer::panel_ui() {
+    // Top right: the scene's own title and numbers are top left.
+    const ImGuiIO& io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 10, 10), ImGuiCond_FirstUseEver, ImVec2(1, 0));
+    // As tall as its open sections, up to the window's height (then it scrolls).
+    ImGui::SetNextWindowSizeConstraints(ImVec2(400, 0), ImVec2(400, io.DisplaySize.y - 20));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("Plausible", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::End();
+        return;
+    }
+    ImGui::PushItemWidth(210.0f);  // px; the rest of the row is the label
+    panel_run_controls();
+    panel_step();
+    panel_overlays();
+    panel_parameters();
+    panel_plots();
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+    ImGui::TextWrapped(
+        "Mouse: left drags a body (or orbits), right orbits, middle pans, wheel zooms. Keys: Space, Right/Left "
+        "step and step back, R reset, [ ] speed, I integrator, H panel, P screenshot, C camera, Q quit.");
+    ImGui::PopStyleColor();
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+}  // namespace scenes::view
