@@ -118,6 +118,178 @@ Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, co
     return strip;
 }
 
+namespace {
+
+// A scene's golden files: the filmstrip PNG and its JSON (checkpoint hashes,
+// thresholds, the renderer's fingerprint), read when both are there.
+struct Golden {
+    fs::path png, json_file;
+    bool present = false;
+    json previous = json::object();  // the JSON as read; empty when absent
+};
+
+Golden read_golden(const fs::path& golden_dir, const std::string& scene) {
+    Golden g;
+    g.png = golden_dir / (scene + ".png");
+    g.json_file = golden_dir / (scene + ".json");
+    g.present = fs::exists(g.png) && fs::exists(g.json_file);
+    if (!g.present) return g;
+    try {
+        std::ifstream in(g.json_file);
+        g.previous = json::parse(in);
+    } catch (const json::exception& e) {
+        throw SceneError(g.json_file.string() + ": not valid JSON: " + e.what());
+    }
+    return g;
+}
+
+// Each checkpoint's state hash against the golden's, and the first that
+// differs (a missing or extra checkpoint counts).
+void compare_hashes(SceneCheck& c, const Filmstrip& strip, const json& previous) {
+    const json expected_checkpoints = previous.value("checkpoints", json::array());
+    for (std::size_t i = 0; i < strip.frames.size(); ++i) {
+        CheckpointHash h;
+        h.frame = strip.frames[i];
+        h.actual = strip.hashes[i];
+        if (i < expected_checkpoints.size()) {
+            const json& e = expected_checkpoints[i];
+            h.expected = e.value("frame", -1) == h.frame ? e.value("state_hash", "")
+                                                         : "frame " + std::to_string(e.value("frame", -1));
+        }
+        if (c.first_hash_mismatch < 0 && h.expected != h.actual) c.first_hash_mismatch = static_cast<int>(i);
+        c.hashes.push_back(h);
+    }
+    if (c.first_hash_mismatch < 0 && expected_checkpoints.size() != strip.frames.size()) {
+        c.first_hash_mismatch = static_cast<int>(std::min(expected_checkpoints.size(), strip.frames.size()));
+    }
+}
+
+// Images of a failure go to <report>/<scene>/; paths in the report are
+// relative to the report folder.
+struct Evidence {
+    const fs::path& report_dir;
+    SceneCheck& c;
+
+    std::string keep(const std::string& file, const render::Image& image) const {
+        fs::create_directories(report_dir / c.scene);
+        render::write_png(report_dir / c.scene / file, image);
+        return c.scene + "/" + file;
+    }
+    // Expected and actual, and where their sizes match, the diff and the three side by side.
+    void keep_comparison(const render::Image& expected, const render::Image& actual) const {
+        c.expected_png = keep("expected.png", expected);
+        c.actual_png = keep("actual.png", actual);
+        if (c.image->size_mismatch) return;
+        c.diff_png = keep("diff.png", c.image->diff);
+        c.side_png =
+            keep("side.png", render::side_by_side(expected, actual, c.image->diff, render::Font::default_font()));
+    }
+};
+
+// The watchdog stopped the run: a failure whatever the golden says; the
+// images show where it was.
+void judge_exploded(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
+                    const Evidence& evidence) {
+    c.status = SceneCheck::Status::exploded;
+    c.message = strip.verdict.message(scene.name);
+    c.actual_png = evidence.keep("actual.png", strip.image);
+    if (!golden.present) return;
+    const render::Image expected = render::read_png(golden.png, 3);
+    c.expected_png = evidence.keep("expected.png", expected);
+    c.image = render::compare_golden(strip.image, expected, thresholds_from(golden.previous, golden.json_file));
+    if (c.image->size_mismatch) return;
+    c.diff_png = evidence.keep("diff.png", c.image->diff);
+    c.side_png = evidence.keep(
+        "side.png", render::side_by_side(expected, strip.image, c.image->diff, render::Font::default_font()));
+}
+
+// No golden yet: written with --update missing or all, else reported.
+void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
+                   const render::Fingerprint& fingerprint, const CheckOptions& options, const fs::path& golden_dir,
+                   const Evidence& evidence) {
+    if (options.update == UpdateMode::missing || options.update == UpdateMode::all) {
+        write_golden(scene, strip, fingerprint, golden_dir, golden.previous);
+        c.status = SceneCheck::Status::updated;
+        c.message = "golden written: " + golden.png.string();
+    } else {
+        c.status = SceneCheck::Status::missing;
+        c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
+        c.actual_png = evidence.keep("actual.png", strip.image);
+    }
+}
+
+// The image against the golden's within its thresholds, the state hashes
+// exactly; rewritten with --update all (or changed, when it differs).
+void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
+                          const render::Fingerprint& fingerprint, const CheckOptions& options,
+                          const fs::path& golden_dir, const Evidence& evidence) {
+    const render::Image expected = render::read_png(golden.png, 3);
+    c.image = render::compare_golden(strip.image, expected, thresholds_from(golden.previous, golden.json_file));
+    const bool physics_same = c.first_hash_mismatch < 0;
+    const bool pass = c.image->pass && physics_same;
+    if (physics_same) {
+        c.message = c.image->pass ? "image " + c.image->summary + ", state hashes identical"
+                                  : "rendering changed, physics identical: " + c.image->summary;
+    } else {
+        const int i = c.first_hash_mismatch;
+        const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+        c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
+                    "): state hash differs; image " + c.image->summary;
+    }
+    if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
+        c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
+    }
+    if (options.update == UpdateMode::all || (!pass && options.update == UpdateMode::changed)) {
+        write_golden(scene, strip, fingerprint, golden_dir, golden.previous);
+        c.status = SceneCheck::Status::updated;
+        c.message = "golden rewritten (" + c.message + ")";
+    } else if (pass) {
+        c.status = SceneCheck::Status::pass;
+    } else {
+        c.status = SceneCheck::Status::fail;
+        evidence.keep_comparison(expected, strip.image);
+    }
+}
+
+// One scene: loaded, its filmstrip rendered, judged. Bad input (the scene
+// file, the golden's JSON, the renderer) is the scene's error, not the run's.
+SceneCheck check_scene(const std::string& name, const std::vector<Override>& overrides, const CheckOptions& options,
+                       render::Renderer& renderer, const render::Fingerprint& fingerprint, const fs::path& golden_dir,
+                       const fs::path& report_dir) {
+    const auto start = std::chrono::steady_clock::now();
+    SceneCheck c;
+    c.scene = name;
+    c.fingerprint_actual = fingerprint.summary();
+    const Evidence evidence{report_dir, c};
+    try {
+        const SceneDef scene = load_scene(resolve_scene(name), overrides);
+        c.scene = scene.name;
+        const Filmstrip strip = render_filmstrip(scene, renderer);
+        const Golden golden = read_golden(golden_dir, scene.name);
+        compare_hashes(c, strip, golden.previous);
+        if (golden.previous.contains("fingerprint")) {
+            c.fingerprint_expected = golden.previous["fingerprint"].value("summary", "");
+        }
+        if (strip.verdict.exploded()) {
+            judge_exploded(c, scene, strip, golden, evidence);
+        } else if (!golden.present) {
+            judge_missing(c, scene, strip, golden, fingerprint, options, golden_dir, evidence);
+        } else {
+            judge_against_golden(c, scene, strip, golden, fingerprint, options, golden_dir, evidence);
+        }
+    } catch (const sim::InputError& e) {
+        c.status = SceneCheck::Status::error;
+        c.message = e.what();
+    } catch (const render::RenderError& e) {
+        c.status = SceneCheck::Status::error;
+        c.message = e.what();
+    }
+    c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return c;
+}
+
+}  // namespace
+
 std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, const std::vector<Override>& overrides,
                                      const CheckOptions& options, render::Renderer& renderer,
                                      const render::Fingerprint& fingerprint) {
@@ -126,117 +298,7 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, cons
     fs::create_directories(report_dir);
     std::vector<SceneCheck> results;
     for (const std::string& name : names) {
-        const auto start = std::chrono::steady_clock::now();
-        SceneCheck c;
-        c.scene = name;
-        c.fingerprint_actual = fingerprint.summary();
-        // Images of a failure go to <report>/<scene>/; paths in the report are relative to it.
-        auto keep = [&](const std::string& file, const render::Image& image) {
-            fs::create_directories(report_dir / c.scene);
-            render::write_png(report_dir / c.scene / file, image);
-            return c.scene + "/" + file;
-        };
-        try {
-            const SceneDef scene = load_scene(resolve_scene(name), overrides);
-            c.scene = scene.name;
-            const Filmstrip strip = render_filmstrip(scene, renderer);
-            const fs::path golden_png = golden_dir / (scene.name + ".png");
-            const fs::path golden_json = golden_dir / (scene.name + ".json");
-            const bool have_golden = fs::exists(golden_png) && fs::exists(golden_json);
-            json previous = json::object();
-            if (have_golden) {
-                try {
-                    std::ifstream in(golden_json);
-                    previous = json::parse(in);
-                } catch (const json::exception& e) {
-                    throw SceneError(golden_json.string() + ": not valid JSON: " + e.what());
-                }
-            }
-            const json expected_checkpoints = previous.value("checkpoints", json::array());
-            for (std::size_t i = 0; i < strip.frames.size(); ++i) {
-                CheckpointHash h;
-                h.frame = strip.frames[i];
-                h.actual = strip.hashes[i];
-                if (i < expected_checkpoints.size()) {
-                    const json& e = expected_checkpoints[i];
-                    h.expected = e.value("frame", -1) == h.frame ? e.value("state_hash", "")
-                                                                 : "frame " + std::to_string(e.value("frame", -1));
-                }
-                if (c.first_hash_mismatch < 0 && h.expected != h.actual) c.first_hash_mismatch = static_cast<int>(i);
-                c.hashes.push_back(h);
-            }
-            if (c.first_hash_mismatch < 0 && expected_checkpoints.size() != strip.frames.size()) {
-                c.first_hash_mismatch = static_cast<int>(std::min(expected_checkpoints.size(), strip.frames.size()));
-            }
-            if (previous.contains("fingerprint")) c.fingerprint_expected = previous["fingerprint"].value("summary", "");
-
-            if (strip.verdict.exploded()) {
-                c.status = SceneCheck::Status::exploded;
-                c.message = strip.verdict.message(scene.name);
-                c.actual_png = keep("actual.png", strip.image);
-                if (have_golden) {
-                    const render::Image expected = render::read_png(golden_png, 3);
-                    c.expected_png = keep("expected.png", expected);
-                    c.image = render::compare_golden(strip.image, expected, thresholds_from(previous, golden_json));
-                    if (!c.image->size_mismatch) {
-                        c.diff_png = keep("diff.png", c.image->diff);
-                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff,
-                                                                           render::Font::default_font()));
-                    }
-                }
-            } else if (!have_golden) {
-                if (options.update == UpdateMode::missing || options.update == UpdateMode::all) {
-                    write_golden(scene, strip, fingerprint, golden_dir, previous);
-                    c.status = SceneCheck::Status::updated;
-                    c.message = "golden written: " + golden_png.string();
-                } else {
-                    c.status = SceneCheck::Status::missing;
-                    c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
-                    c.actual_png = keep("actual.png", strip.image);
-                }
-            } else {
-                const render::Image expected = render::read_png(golden_png, 3);
-                c.image = render::compare_golden(strip.image, expected, thresholds_from(previous, golden_json));
-                const bool physics_same = c.first_hash_mismatch < 0;
-                const bool pass = c.image->pass && physics_same;
-                if (physics_same) {
-                    c.message = c.image->pass ? "image " + c.image->summary + ", state hashes identical"
-                                              : "rendering changed, physics identical: " + c.image->summary;
-                } else {
-                    const int i = c.first_hash_mismatch;
-                    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
-                    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " +
-                                std::to_string(frame) + "): state hash differs; image " + c.image->summary;
-                }
-                if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
-                    c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
-                }
-                if (options.update == UpdateMode::all || (!pass && options.update == UpdateMode::changed)) {
-                    write_golden(scene, strip, fingerprint, golden_dir, previous);
-                    c.status = SceneCheck::Status::updated;
-                    c.message = "golden rewritten (" + c.message + ")";
-                } else if (pass) {
-                    c.status = SceneCheck::Status::pass;
-                } else {
-                    c.status = SceneCheck::Status::fail;
-                    c.expected_png = keep("expected.png", expected);
-                    c.actual_png = keep("actual.png", strip.image);
-                    if (!c.image->size_mismatch) {
-                        c.diff_png = keep("diff.png", c.image->diff);
-                        c.side_png = keep("side.png", render::side_by_side(expected, strip.image, c.image->diff,
-                                                                           render::Font::default_font()));
-                    }
-                }
-            }
-        } catch (const sim::InputError& e) {
-            c.status = SceneCheck::Status::error;
-            c.message = e.what();
-        } catch (const render::RenderError& e) {
-            c.status = SceneCheck::Status::error;
-            c.message = e.what();
-        }
-        c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        results.push_back(std::move(c));
+        results.push_back(check_scene(name, overrides, options, renderer, fingerprint, golden_dir, report_dir));
     }
     write_check_report(report_dir, results);
     return results;
