@@ -3,6 +3,7 @@
 #include "sim/overloaded.h"
 
 #include <algorithm>
+#include <chrono>
 
 namespace sim {
 
@@ -140,10 +141,15 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
     }
     for (std::size_t k = 0; k < others_.size(); ++k) {
         if (const auto* springs = std::get_if<Springs>(others_[k])) {
+            const auto start = spring_time_ ? SpringClock::now() : SpringClock::time_point{};
             if (plans_[k].few) {
                 accumulate(*springs, in, f);  // what the fast pass would fall back to (no call on the way)
             } else {
                 accumulate(*springs, plans_[k], in, f, skip_pinned);
+            }
+            if (spring_time_) {
+                spring_time_->seconds += std::chrono::duration<double>(SpringClock::now() - start).count();
+                spring_time_->reads += 2;
             }
         } else {
             std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);

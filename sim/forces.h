@@ -15,6 +15,7 @@
 #include "sim/spring.h"
 #include "sim/wind.h"
 
+#include <chrono>
 #include <cstdint>
 #include <variant>
 #include <vector>
@@ -59,6 +60,15 @@ public:
     // of whole-system force evaluations (the machine-independent cost).
     std::uint64_t particle_evaluations() const { return particle_evaluations_; }
 
+    // The spring generators' passes, timed while `time` is set (the World's
+    // sampled frames; nullptr: not timed, no clock read): wall seconds and
+    // the clock reads that took them.
+    struct SpringTime {
+        double seconds = 0.0;  // s, the reads' own cost included
+        int reads = 0;
+    };
+    void time_springs(SpringTime* time) { spring_time_ = time; }
+
 private:
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
@@ -86,6 +96,8 @@ private:
     const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
     bool wide_central_ = false;                     // CentralGravity's AVX2 pass (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
+    SpringTime* spring_time_ = nullptr;
+    using SpringClock = std::chrono::steady_clock;
 };
 
 // Validates every generator against a system of particle_count particles.

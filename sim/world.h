@@ -117,13 +117,17 @@ public:
     // sampled frame reads the clock between its stages, and the cost of one
     // read (calibrated once) is taken off each interval. Divide by
     // sampled_steps, never by steps(): ms_per_step() does.
+    // Each system's time in the sampled frames (see step()): the entries
+    // partition the step, with the glue between them only in `total`.
     struct SystemTimes {
-        double particles = 0.0;    // s, integration (force evaluations, springs included), and the
+        double particles = 0.0;    // s, integration and the force evaluations (springs apart), and the
                                    // watchdog's per-particle rules when they run inside it (no
                                    // constraints or collisions: see step_once)
+        double springs = 0.0;      // s, the spring generators' passes inside those force evaluations
         double constraints = 0.0;  // s, XPBD projection and its velocity update
         double collisions = 0.0;   // s
         double plasticity = 0.0;   // s, rest-length creep of plastic springs
+        double emitters = 0.0;     // s, births at the nozzles
         double rigid = 0.0;        // s, ODE: collisions and the solver
         double watchdog = 0.0;     // s, the rest of the watchdog (or all of it, after constraints or collisions)
         double total = 0.0;        // s, whole frames: everything step() did in the sampled frames
@@ -133,6 +137,8 @@ public:
         double ms_per_step(double seconds) const {
             return sampled_steps == 0 ? 0.0 : 1e3 * seconds / static_cast<double>(sampled_steps);
         }
+        // The time of a system by its name in Systems::names(), s.
+        double of(std::string_view system) const;
     };
     const SystemTimes& times() const { return times_; }
     const Systems& systems() const { return systems_; }

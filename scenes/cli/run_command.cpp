@@ -106,25 +106,15 @@ EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv) {
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
 
-// ms per step of each system the scene built (docs/design.md: one entry per
-// system and the total), measured on the sampled frames (World::SystemTimes);
-// the total is the whole step, the glue between systems included.
-nlohmann::json ms_per_system(const SceneDef& scene, const sim::World& world) {
+// ms per step of each system the World runs (docs/design.md: one entry per
+// system in `systems`, and the total), measured on the sampled frames
+// (World::SystemTimes); the entries partition the step, the total is the
+// whole step with the glue between systems.
+nlohmann::json ms_per_system(const sim::World& world) {
     const auto& times = world.times();
-    auto ms = [&](double seconds) { return times.ms_per_step(seconds); };
     nlohmann::json per_system = nlohmann::json::object();
-    for (const std::string& system : scene.systems()) {
-        const double v = system == "particles"     ? ms(times.particles)
-                         : system == "constraints" ? ms(times.constraints)
-                         : system == "collisions"  ? ms(times.collisions)
-                         : system == "plasticity"  ? ms(times.plasticity)
-                         : system == "rigid"       ? ms(times.rigid)
-                         : system == "watchdog"    ? ms(times.watchdog)
-                                                   : -1.0;
-        if (v < 0.0) continue;  // springs: inside the particles' force evaluations
-        per_system[system] = v;
-    }
-    per_system["total"] = ms(times.total);
+    for (const std::string& system : world.systems().names()) per_system[system] = times.ms_per_step(times.of(system));
+    per_system["total"] = times.ms_per_step(times.total);
     return per_system;
 }
 
@@ -169,7 +159,7 @@ void print_json(const Summary& s) {
     j["steps"] = world.steps();
     j["frames"] = s.run.frame();
     j["sim_time"] = number(s.run.time());
-    j["systems"] = s.scene.systems();
+    j["systems"] = world.systems().names();
     j["state_hash"] = s.run.state_hash_hex();
     j["energy"] = {{"initial", number(s.energy.initial)},
                    {"final", number(s.final_energy)},
@@ -240,7 +230,7 @@ int run_scene(const RunArgs& args) {
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr);
     if (csv) csv->commit();
     const Summary summary{
-        scene, run, energy, run.world().energy(), ms_per_system(scene, run.world()), ghost_error(scene, run)};
+        scene, run, energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run)};
     if (args.json) {
         print_json(summary);
     } else {

@@ -102,13 +102,13 @@ void Viewer::panel_plots() {
     char label[64];
     std::snprintf(label, sizeof label, "E = %.5g J", e.empty() ? 0.0 : e.back());
     ImGui::PlotLines("energy", e.data(), static_cast<int>(e.size()), 0, label, FLT_MAX, FLT_MAX, ImVec2(0, 70));
-    static constexpr std::array<const char*, 6> kNames{"particles",  "constraints", "collisions",
-                                                       "plasticity", "rigid",       "watchdog"};
-    for (std::size_t k = 0; k < kNames.size(); ++k) {
-        const auto d = system_ms_[k].data();
-        if (d.empty() || *std::max_element(d.begin(), d.end()) <= 0.0f) continue;  // a system the scene lacks
+    for (const std::string& name : run_->world().systems().names()) {
+        const auto it = system_ms_.find(name);
+        if (it == system_ms_.end()) continue;
+        const auto d = it->second.ms.data();
+        if (d.empty() || *std::max_element(d.begin(), d.end()) <= 0.0f) continue;  // nothing measured yet
         std::snprintf(label, sizeof label, "%.3f ms/frame", d.back());
-        ImGui::PlotLines(kNames[k], d.data(), static_cast<int>(d.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
+        ImGui::PlotLines(name.c_str(), d.data(), static_cast<int>(d.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
     }
     const auto r = render_ms_.data();
     std::snprintf(label, sizeof label, "%.1f ms/frame", r.empty() ? 0.0 : r.back());

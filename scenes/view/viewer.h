@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -198,17 +199,19 @@ public:
     void record_times(double render_ms) {
         // Per frame step since the last sampled one (World::SystemTimes
         // samples a light scene's frames, so several may share a figure).
-        const sim::World::SystemTimes& t = run_->world().times();
-        const std::array<double, 6> now{t.particles, t.constraints, t.collisions, t.plasticity, t.rigid, t.watchdog};
+        const sim::World& world = run_->world();
+        const sim::World::SystemTimes& t = world.times();
         const std::uint64_t sampled = t.sampled_frames - last_sampled_frames_;
-        for (std::size_t k = 0; k < now.size(); ++k) {
-            if (sampled > 0) last_ms_[k] = 1e3 * std::max(0.0, now[k] - last_times_[k]) / static_cast<double>(sampled);
-            system_ms_[k].push(static_cast<float>(last_ms_[k]));
+        for (const std::string& name : world.systems().names()) {
+            SystemSeries& s = system_ms_[name];
+            const double now = t.of(name);
+            if (sampled > 0) s.last_ms = 1e3 * std::max(0.0, now - s.last_seconds) / static_cast<double>(sampled);
+            if (sampled > 0) s.last_seconds = now;
+            s.ms.push(static_cast<float>(s.last_ms));
         }
-        if (sampled > 0) last_times_ = now;
         last_sampled_frames_ = t.sampled_frames;
         render_ms_.push(static_cast<float>(render_ms));
-        energy_.push(static_cast<float>(run_->world().energy()));
+        energy_.push(static_cast<float>(world.energy()));
     }
 
     void panel_ui();
@@ -287,8 +290,7 @@ private:
         history_.clear();
         history_bytes_ = 0;
         accumulator_ = 0.0;
-        last_times_ = {};
-        last_ms_ = {};
+        for (auto& [name, series] : system_ms_) series.last_seconds = series.last_ms = 0.0;  // a new World's clocks
         last_sampled_frames_ = 0;
     }
 
@@ -355,9 +357,12 @@ private:
     Pick grab_;
     double last_x_ = 0.0, last_y_ = 0.0;
     Series energy_, render_ms_;
-    std::array<Series, 6> system_ms_;
-    std::array<double, 6> last_times_{};  // s, the world's times at the last sampled frame
-    std::array<double, 6> last_ms_{};     // ms per frame step, the last figure
+    struct SystemSeries {
+        Series ms;                  // ms per frame step
+        double last_seconds = 0.0;  // s, the world's time of it at the last sampled frame
+        double last_ms = 0.0;       // ms per frame step, the last figure
+    };
+    std::map<std::string, SystemSeries> system_ms_;  // by the names of World::systems()
     std::uint64_t last_sampled_frames_ = 0;
 };
 

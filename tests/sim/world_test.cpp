@@ -188,6 +188,25 @@ TEST(Timing, SamplesFewFramesOfALightStepAndEveryFrameOfAHeavyOne) {
     EXPECT_EQ(World::SystemTimes{}.ms_per_step(1.0), 0.0) << "no sample yet: 0, not a division by zero";
 }
 
+// One definition of the systems: the World's stages, the names `run --json`
+// lists, and a time for each name. A spring's pass is timed apart from the
+// particles' (the two partition the force evaluation).
+TEST(Timing, EverySystemTheWorldRunsHasATime) {
+    ParticleModel model = oscillator_model({}, Vec3(1.0, 0.0, 0.0), Vec3::Zero());
+    model.collisions.colliders.push_back(PlaneCollider{Vec3::UnitY(), -10.0});
+    World timed(model);
+    const std::vector<std::string> names = timed.systems().names();
+    EXPECT_EQ(names, (std::vector<std::string>{"particles", "springs", "collisions", "watchdog"}));
+    for (int i = 0; i < 20; ++i) timed.step({Integrator::rk4, 1.0 / 60.0, 2});
+    for (const std::string& name : names) EXPECT_GE(timed.times().of(name), 0.0) << name << ", s";
+    EXPECT_GT(timed.times().sampled_frames, 0u);
+    EXPECT_THROW(timed.times().of("gravity"), InputError) << "not a system: a generator inside particles";
+
+    // A colliderless model has no collision stage, and its name is not listed.
+    model.collisions.colliders.clear();
+    EXPECT_EQ(World(model).systems().names(), (std::vector<std::string>{"particles", "springs", "watchdog"}));
+}
+
 TEST(Energy, KineticPlusPotential) {
     World world(ballistic_model());
     // ½ m |v|² = ½ · 1 · 25 J, U = -m g·x = 0 at the origin
