@@ -13,6 +13,7 @@
 #include "sim/quadratic_drag.h"
 #include "sim/shock_wave.h"
 #include "sim/spring.h"
+#include "sim/spring_plan.h"
 #include "sim/wind.h"
 
 #include <chrono>

@@ -181,8 +181,16 @@ void World::apply_drag(double h) {
 }
 
 World::Snapshot World::snapshot() const {
-    Snapshot snap{state_,    memory_a_, memory_x_prev_, memory_valid_,   memory_integrator_,
-                  memory_h_, steps_,    frames_,        initial_energy_, verdict_};
+    Snapshot snap{.state = state_,
+                  .memory_a = memory_a_,
+                  .memory_x_prev = memory_x_prev_,
+                  .memory_valid = memory_valid_,
+                  .memory_integrator = memory_integrator_,
+                  .memory_h = memory_h_,
+                  .steps = steps_,
+                  .frames = frames_,
+                  .initial_energy = initial_energy_,
+                  .verdict = verdict_};
     for (std::size_t k = 0; k < live_forces_.size(); ++k) {
         if (rest0_[k].empty()) continue;
         for (const Spring& sp : std::get<Springs>(live_forces_[k]).list) snap.plastic_rest.push_back(sp.rest);
