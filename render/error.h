@@ -1,6 +1,6 @@
 // Errors the renderer raises. Nothing in render/ prints or exits: the
 // `plausible` command turns a RenderError into a message and an exit code
-// (bad_input and no_display: 2, DESIGN.md "The command").
+// (bad_input and no_display: 2, docs/design.md "The command").
 #pragma once
 
 #include <stdexcept>

@@ -1,4 +1,4 @@
-// The golden image metric (DESIGN.md "Golden checks"): byte-identical is a
+// The golden image metric (docs/design.md "Golden checks"): byte-identical is a
 // pass; otherwise, with d the largest channel difference of a pixel, small
 // errors (1 <= d <= small_max_d) are allowed on a share of the pixels and
 // large errors (d > small_max_d) on a much smaller one. llvmpipe on another

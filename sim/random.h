@@ -2,7 +2,7 @@
 // and compiler, because it is ours. The C library's generator and the
 // standard library's engines and distributions are not used anywhere (a ctest
 // greps for them): their sequences differ between implementations, and
-// the same scene must give the same bits everywhere (DESIGN.md rule 5).
+// the same scene must give the same bits everywhere (docs/design.md rule 5).
 //
 // Generator: xoshiro256** (Blackman and Vigna, 2018), a 256-bit state with a
 // period of 2^256 - 1, seeded by expanding a 64-bit seed with SplitMix64 (the

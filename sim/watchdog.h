@@ -1,4 +1,4 @@
-// The explosion watchdog (DESIGN.md "Golden checks"): after every integrator
+// The explosion watchdog (docs/design.md "Golden checks"): after every integrator
 // step it looks for a non-finite state, a particle too fast, a particle out
 // of the world box, or total energy grown past a factor of its initial value,
 // and reports the first violation as a Verdict {frame, quantity, index, value}.

@@ -1,4 +1,4 @@
-// Golden checks (DESIGN.md "Golden checks"): a scene's checkpoint frames
+// Golden checks (docs/design.md "Golden checks"): a scene's checkpoint frames
 // rendered off-screen as one filmstrip, compared with golden/<scene>.png, and
 // the state hash at each checkpoint compared with golden/<scene>.json.
 #pragma once

@@ -1,4 +1,4 @@
-// The glue that turns a SceneRun into a render::DrawList (DESIGN.md rule 1:
+// The glue that turns a SceneRun into a render::DrawList (docs/design.md rule 1:
 // sim knows nothing of rendering, render nothing of physics; this file knows
 // both). Like MuJoCo's mjv_addGeoms, each add_* appends one kind of thing to
 // the list; draw_list() calls them in a fixed order, and that order is the

@@ -1,7 +1,7 @@
-// One run of a scene: a World built from the SceneDef (DESIGN.md rule 2), the
+// One run of a scene: a World built from the SceneDef (docs/design.md rule 2), the
 // frame counter, what pictures need from the past (trails, the energy curve)
 // (scene_run.cpp), and the glue that turns it all into a render::DrawList
-// (draw_list.cpp; DESIGN.md rule 1: sim knows nothing of rendering, render
+// (draw_list.cpp; docs/design.md rule 1: sim knows nothing of rendering, render
 // nothing of physics; this room knows both). run, render, check, video and
 // view all step scenes through it.
 #pragma once
