@@ -1,5 +1,6 @@
 #include "sim/central_gravity.h"
 
+#include "sim/cpu.h"
 #include "sim/error.h"
 
 #include <cmath>
@@ -94,21 +95,12 @@ void run(CentralLoop loop, const CentralGravity& gravity, const ForceInput& in, 
 
 }  // namespace
 
-bool wide_central_pass_available() {
-#if defined(__x86_64__) && defined(__GNUC__)
-    return __builtin_cpu_supports("avx2");
-#else
-    return false;
-#endif
-}
-
 void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f, bool wide) {
     run(central_pass<false, false>(wide), gravity, in, f);
 }
 
 void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f) {
-    static const bool wide = wide_central_pass_available();
-    accumulate(gravity, in, f, wide);
+    accumulate(gravity, in, f, avx2_available());
 }
 
 void to_acceleration(const CentralGravity& gravity, const ForceInput& in, Vec3Span a, bool from_zero, bool wide) {

@@ -24,7 +24,6 @@ void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f)
 // The same, in the pinned build (wide = false) or the AVX2 one (the same
 // bits; accumulate above takes it where the CPU has it).
 void accumulate(const CentralGravity& gravity, const ForceInput& in, Vec3Span f, bool wide);
-bool wide_central_pass_available();
 // The last generator and the step's M⁻¹ in one pass: a = (a + f) · (1/m),
 // a holding the other forces, N (or, from_zero, nothing yet: a = (+0 + f) ·
 // (1/m)). The operations of a zero pass, accumulate and a multiply by the

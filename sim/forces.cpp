@@ -1,5 +1,6 @@
 #include "sim/forces.h"
 
+#include "sim/cpu.h"
 #include "sim/overloaded.h"
 
 #include <algorithm>
@@ -31,7 +32,7 @@ void validate_forces(const std::vector<ForceDef>& forces, std::size_t particle_c
 
 ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                                const std::vector<double>& inv_mass)
-    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_central_(wide_central_pass_available()) {
+    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_central_(avx2_available()) {
     for (const ForceDef& force : forces) {
         all_local_ = all_local_ && std::visit([](const auto& g) { return is_local(g); }, force);
         if (const auto* gravity = std::get_if<UniformGravity>(&force)) {

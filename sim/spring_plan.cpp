@@ -3,6 +3,8 @@
 // built for SSE and, chosen at run time, AVX2, with the reference loop's bits.
 #include "sim/spring_plan.h"
 
+#include "sim/cpu.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -95,14 +97,6 @@ void cut_runs(const Springs& springs, const std::vector<std::uint32_t>& sorted, 
 
 }  // namespace
 
-bool wide_spring_pass_available() {
-#if defined(__x86_64__) && defined(__GNUC__)
-    return __builtin_cpu_supports("avx2");
-#else
-    return false;
-#endif
-}
-
 SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
     SpringPlan plan;
     const std::size_t m = springs.list.size();
@@ -113,7 +107,7 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
     // A few springs go the reference loop's way: the passes' setup would
     // cost more than they save (a tenth of a one-spring step, measured).
     plan.few = m < kMinRun;
-    plan.wide = wide_spring_pass_available();
+    plan.wide = avx2_available();
 
     // Pass 1's order: fans first (by (i, j), cut where i changes or j skips),
     // then the other springs by (j - i, i), cut into runs where i and j both

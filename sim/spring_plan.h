@@ -66,8 +66,6 @@ struct SpringPlan {
     std::vector<double> gx, gy, gz;  // (springs) scratch: force on each spring's first particle, N
 };
 SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);
-// True when this CPU runs the AVX2 build of the fast pass (plan.wide's default).
-bool wide_spring_pass_available();
 
 // The same bits as accumulate(springs, in, f), faster on large systems.
 // Falls back to the reference loop for a few springs (plan.few), a plan

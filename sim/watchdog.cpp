@@ -1,5 +1,6 @@
 #include "sim/watchdog.h"
 
+#include "sim/cpu.h"
 #include "sim/error.h"
 
 #include <algorithm>
@@ -101,8 +102,7 @@ template <typename... A>
 SuspectLoop suspect_pass() {
     static const SuspectLoop pass = [] {
 #if defined(__x86_64__) && defined(__GNUC__)
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx2"))
+        if (avx2_available())
             return &suspects_avx2<const double*, const double*, const double*, const double*, const double*,
                                   const double*, std::size_t, double, double>;
 #endif

@@ -55,25 +55,39 @@ Systems systems_of(const ParticleModel& model, const WatchdogLimits& watchdog) {
     return s;
 }
 
+namespace {
+
+// The systems in stage order, each once: its name, its flag in Systems and
+// its time in SystemTimes.
+struct SystemEntry {
+    std::string_view name;
+    bool Systems::*present;
+    double World::SystemTimes::*seconds;
+};
+constexpr SystemEntry kSystems[] = {
+    {"particles", &Systems::particles, &World::SystemTimes::particles},
+    {"springs", &Systems::springs, &World::SystemTimes::springs},
+    {"constraints", &Systems::constraints, &World::SystemTimes::constraints},
+    {"collisions", &Systems::collisions, &World::SystemTimes::collisions},
+    {"plasticity", &Systems::plasticity, &World::SystemTimes::plasticity},
+    {"emitters", &Systems::emitters, &World::SystemTimes::emitters},
+    {"rigid", &Systems::rigid, &World::SystemTimes::rigid},
+    {"watchdog", &Systems::watchdog, &World::SystemTimes::watchdog},
+};
+
+}  // namespace
+
 double World::SystemTimes::of(std::string_view system) const {
-    const std::pair<std::string_view, double> all[] = {
-        {"particles", particles},   {"springs", springs},       {"constraints", constraints},
-        {"collisions", collisions}, {"plasticity", plasticity}, {"emitters", emitters},
-        {"rigid", rigid},           {"watchdog", watchdog}};
-    for (const auto& [name, seconds] : all) {
-        if (name == system) return seconds;
+    for (const SystemEntry& e : kSystems) {
+        if (e.name == system) return this->*e.seconds;
     }
     throw InputError("no system named '" + std::string(system) + "'");
 }
 
 std::vector<std::string> Systems::names() const {
     std::vector<std::string> out;
-    const std::pair<bool, const char*> all[] = {
-        {particles, "particles"},   {springs, "springs"},       {constraints, "constraints"},
-        {collisions, "collisions"}, {plasticity, "plasticity"}, {emitters, "emitters"},
-        {rigid, "rigid"},           {watchdog, "watchdog"}};
-    for (const auto& [present, name] : all) {
-        if (present) out.push_back(name);
+    for (const SystemEntry& e : kSystems) {
+        if (this->*e.present) out.emplace_back(e.name);
     }
     return out;
 }
@@ -470,12 +484,9 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     // arrays below scratch_arrays_ already hold scratch_block_ particles).
     const std::size_t block = forces_.all_local() ? std::min(n, kBlock) : n;
     if (info.scratch_arrays > scratch_arrays_ || block > scratch_block_) {
-        for (std::size_t i = 0; i < info.scratch_arrays; ++i) {
-            if (scratch_[i].size() < block) scratch_[i].resize(block);
-        }
         scratch_arrays_ = std::max(scratch_arrays_, info.scratch_arrays);
         scratch_block_ = std::max(scratch_block_, block);
-        for (std::size_t i = 0; i < scratch_arrays_; ++i) scratch_block_ = std::min(scratch_block_, scratch_[i].size());
+        for (std::size_t i = 0; i < scratch_arrays_; ++i) scratch_[i].resize(scratch_block_);
     }
     // Integrator memory is allocated the first time a method that keeps it runs.
     Vec3Array* memory = info.memory == Memory::acceleration        ? &memory_a_

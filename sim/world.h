@@ -240,7 +240,7 @@ private:
     Vec3Array memory_a_;
     Vec3Array memory_x_prev_;
     std::vector<Vec3Array> scratch_;
-    std::size_t scratch_arrays_ = 0, scratch_block_ = 0;  // scratch_[0, arrays) hold at least `block` particles
+    std::size_t scratch_arrays_ = 0, scratch_block_ = 0;  // scratch_[0, scratch_arrays_) hold scratch_block_ points
     bool memory_valid_ = false;
     Integrator memory_integrator_ = Integrator::symplectic_euler;
     double memory_h_ = 0.0;

@@ -12,6 +12,7 @@
 //    1/60 s frame (one step, as the fountain scene) after 4 s of warm-up:
 //    target <= 1.65 ms, the lecture's 5% of a 33 ms frame.
 #include "bench_world.h"
+#include "sim/cpu.h"
 #include "sim/mass_spring.h"
 #include "sim/world.h"
 
@@ -68,7 +69,7 @@ BENCHMARK(Cloth64)->Unit(benchmark::kMillisecond);
 
 void SpringPass64(benchmark::State& state) {
     const bool wide = state.range(0) != 0;
-    if (wide && !sim::wide_spring_pass_available()) {
+    if (wide && !sim::avx2_available()) {
         state.SkipWithError("this CPU has no AVX2");
         return;
     }

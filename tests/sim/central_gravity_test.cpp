@@ -5,6 +5,7 @@
 // it would alone. Potential, Jacobians and block-by-block evaluation are
 // checked with the other generators in forces_test.cpp.
 #include "sim/central_gravity.h"
+#include "sim/cpu.h"
 #include "sim/error.h"
 #include "sim/problems.h"
 #include "sim/world.h"
@@ -123,7 +124,7 @@ TEST(CentralGravity, WideAndFusedPassesGiveTheSameBits) {
     };
     const Vec3Array from_zero = reference(Vec3Array(n)), from_field = reference(field);
     for (const bool wide : {false, true}) {
-        if (wide && !wide_central_pass_available()) continue;
+        if (wide && !avx2_available()) continue;
         SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
         Vec3Array f = field, f_base = field;
         accumulate(gravity, in, f.span(), wide);

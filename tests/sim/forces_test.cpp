@@ -3,6 +3,7 @@
 // bit), potentials and Jacobians (checked by central differences), and the
 // refusal of bad parameters.
 #include "sim/forces.h"
+#include "sim/cpu.h"
 #include "sim/error.h"
 #include "sim/mass_spring.h"
 #include "sim/random.h"
@@ -122,7 +123,7 @@ TEST(Spring, FastPassGivesTheReferenceLoopsBits) {
     }
     // The pinned build (SSE) and, where the CPU has it, the AVX2 build.
     std::vector<bool> widths{false};
-    if (wide_spring_pass_available()) widths.push_back(true);
+    if (avx2_available()) widths.push_back(true);
     for (const bool wide : widths) {
         SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
         Springs springs = built;
@@ -192,7 +193,7 @@ TEST(Spring, FastPassGivesTheReferenceLoopsBitsOnAnyTopology) {
     Vec3Array reference(n);
     accumulate(springs, fx.input(), reference.span());
     for (const bool wide : {false, true}) {
-        if (wide && !wide_spring_pass_available()) continue;
+        if (wide && !avx2_available()) continue;
         SpringPlan plan = plan_springs(springs, n);
         plan.wide = wide;
         EXPECT_FALSE(plan.runs.empty()) << "the rope";
@@ -241,7 +242,7 @@ TEST(Spring, FastPassGivesTheReferenceLoopsBitsWithZeroRestSprings) {
     Vec3Array reference = start;
     accumulate(springs, fx.input(), reference.span());
     for (const bool wide : {false, true}) {
-        if (wide && !wide_spring_pass_available()) continue;
+        if (wide && !avx2_available()) continue;
         SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
         SpringPlan plan = plan_springs(springs, n);
         plan.wide = wide;
