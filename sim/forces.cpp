@@ -32,7 +32,7 @@ void validate_forces(const std::vector<ForceDef>& forces, std::size_t particle_c
 
 ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                                const std::vector<double>& inv_mass)
-    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_central_(avx2_available()) {
+    : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_(avx2_available()) {
     for (const ForceDef& force : forces) {
         all_local_ = all_local_ && std::visit([](const auto& g) { return is_local(g); }, force);
         if (const auto* gravity = std::get_if<UniformGravity>(&force)) {
@@ -53,6 +53,11 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
     if (others_.size() == 1) central_only_ = std::get_if<CentralGravity>(others_[0]);
 }
 
+void ParticleForces::set_wide(bool wide) {
+    wide_ = wide && avx2_available();
+    for (SpringPlan& plan : plans_) plan.wide = wide_;
+}
+
 ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const {
     return {t, first, x, v, mass_->data() + first, inv_mass_->data() + first};
 }
@@ -64,6 +69,8 @@ namespace {
 // Plain pointers and scalars only (a struct passed in makes GCC reload its
 // members every iteration and give up vectorising); __restrict because the
 // output never overlaps the velocity or mass arrays.
+constexpr std::size_t kFew = 4;  // particles: fewer go one at a time, at the pinned width
+
 template <bool kQuadratic, bool kToAcceleration>
 void field_loop(const double* __restrict vx, const double* __restrict vy, const double* __restrict vz,
                 const double* __restrict m, const double* __restrict inv_m, double* __restrict ox,
@@ -82,10 +89,20 @@ void field_loop(const double* __restrict vx, const double* __restrict vy, const 
 
 void ParticleForces::field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const {
     const bool quadratic = field_.c2 != 0.0;
-    auto* loop = quadratic ? (to_acceleration ? &field_loop<true, true> : &field_loop<true, false>)
-                           : (to_acceleration ? &field_loop<false, true> : &field_loop<false, false>);
-    loop(in.v.c[0], in.v.c[1], in.v.c[2], in.mass, in.inv_mass, out.c[0], out.c[1], out.c[2], out.n, field_.g.x(),
-         field_.g.y(), field_.g.z(), field_.c, field_.c2);
+    auto run = [&](auto quadratic_constant, auto acceleration_constant) {
+        run_at_width(
+            wide_ && out.n > kFew,
+            [](auto... a) {
+                field_loop<decltype(quadratic_constant)::value, decltype(acceleration_constant)::value>(a...);
+            },
+            in.v.c[0], in.v.c[1], in.v.c[2], in.mass, in.inv_mass, out.c[0], out.c[1], out.c[2], out.n, field_.g.x(),
+            field_.g.y(), field_.g.z(), field_.c, field_.c2);
+    };
+    if (quadratic) {
+        to_acceleration ? run(std::true_type{}, std::true_type{}) : run(std::true_type{}, std::false_type{});
+    } else {
+        to_acceleration ? run(std::false_type{}, std::true_type{}) : run(std::false_type{}, std::false_type{});
+    }
 }
 
 namespace {
@@ -96,7 +113,6 @@ namespace {
 // forwarded to the scalar loads of the spring pass that follows, which then
 // waits for them to retire (a third of a one-spring evaluation, measured).
 inline void zero(const Vec3Span& f) {
-    constexpr std::size_t kFew = 4;
     if (f.n <= kFew) {
 #pragma GCC unroll 4
         for (std::size_t i = 0; i < kFew; ++i) {
@@ -116,7 +132,6 @@ inline void zero(const Vec3Span& f) {
 // one (a spring's scatter) waits for the stores to retire.
 void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double* __restrict a2,
                            const double* __restrict inv_m, std::size_t n) {
-    constexpr std::size_t kFew = 4;
     if (n <= kFew) {
         for (std::size_t i = 0; i < n && i < kFew; ++i) {
             a0[i] *= inv_m[i];
@@ -164,7 +179,7 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
 // spring path's fixed cost stays as it was.
 [[gnu::noinline]] void ParticleForces::central_acceleration(const ForceInput& in, const Vec3Span& a) const {
     if (has_field_) field_pass(in, a, false);
-    to_acceleration(*central_only_, in, a, !has_field_, wide_central_);
+    to_acceleration(*central_only_, in, a, !has_field_, wide_);
 }
 
 void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
@@ -182,7 +197,12 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     // A pinned particle's acceleration is its force times 0: the spring pass
     // may leave its sum out (see accumulate's skip_pinned).
     sum_forces(in, a, true);
-    scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
+    if (wide_ && a.n > kFew) {
+        run_at_width(
+            true, [](auto... p) { scale_by_inverse_mass(p...); }, a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
+    } else {
+        scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
+    }
 }
 
 void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,

@@ -70,6 +70,10 @@ public:
     };
     void time_springs(SpringTime* time) { spring_time_ = time; }
 
+    // Run the passes' AVX2 builds (sim/cpu.h), where the CPU has AVX2 (the
+    // default); the same bits either way. Tests turn them off to compare.
+    void set_wide(bool wide);
+
 private:
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
@@ -95,7 +99,7 @@ private:
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;
     const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
-    bool wide_central_ = false;                     // CentralGravity's AVX2 pass (the same bits), where the CPU has it
+    bool wide_ = false;                             // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
     SpringTime* spring_time_ = nullptr;
     using SpringClock = std::chrono::steady_clock;

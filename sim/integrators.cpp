@@ -19,6 +19,8 @@
 // one is as fast as a hand-written loop of the method.
 #include "sim/integrators.h"
 
+#include "sim/cpu.h"
+
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
@@ -39,7 +41,18 @@ namespace {
 // The array paths' loops take __restrict parameters (the arrays never
 // overlap), so that each is one vectorised loop over the particles with no
 // run-time overlap checks; every point gets the same operations in the same
-// order as the fused rules.
+// order as the fused rules. Each loop is built twice (sim/cpu.h's
+// run_at_width): for the pinned instruction set and, on a block of more than
+// a few particles where the CPU has it, for AVX2, four doubles a register
+// instead of two. Products and sums are correctly rounded at any width and
+// nothing is fused (-ffp-contract=off), so both give the same bits (tested).
+
+// A few particles go one at a time, at the pinned width (no vector loop to
+// set up: a one-particle step costs ~100 ns).
+constexpr std::size_t kFewParticles = 16;
+
+// Whether this block's loops run their AVX2 builds.
+bool wide_loops(const StepArrays& s) { return s.wide && s.x.n > kFewParticles; }
 
 // y += alpha x, for every component of every point.
 void axpy_loop(double* __restrict y0, double* __restrict y1, double* __restrict y2, const double* __restrict x0,
@@ -50,8 +63,9 @@ void axpy_loop(double* __restrict y0, double* __restrict y1, double* __restrict 
         y2[i] += alpha * x2[i];
     }
 }
-void axpy(const Vec3Span& y, double alpha, const Vec3Span& x) {
-    axpy_loop(y.c[0], y.c[1], y.c[2], x.c[0], x.c[1], x.c[2], y.n, alpha);
+void axpy(bool wide, const Vec3Span& y, double alpha, const Vec3Span& x) {
+    run_at_width(
+        wide, [](auto... a) { axpy_loop(a...); }, y.c[0], y.c[1], y.c[2], x.c[0], x.c[1], x.c[2], y.n, alpha);
 }
 
 // Leapfrog's kick and drift: v += (h/2) a, then x += h v.
@@ -141,9 +155,14 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
 template <bool kQuadratic, bool kMemory, class Rule>
 void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const double* mass, const double* inv_mass,
                     const UniformField& field, Rule rule) {
-    auto* loop = fresh ? &field_loop<kQuadratic, kMemory, true, Rule> : &field_loop<kQuadratic, kMemory, false, Rule>;
-    loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], mass,
-         inv_mass, s.x.n, field, rule);
+    auto run = [&](auto fresh_constant) {
+        run_at_width(
+            wide_loops(s),
+            [](auto... a) { field_loop<kQuadratic, kMemory, decltype(fresh_constant)::value, Rule>(a...); }, s.x.c[0],
+            s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], mass, inv_mass,
+            s.x.n, field, rule);
+    };
+    fresh ? run(std::true_type{}) : run(std::false_type{});
 }
 
 // The acceleration a force evaluation left in an array, for one particle.
@@ -176,11 +195,19 @@ void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict
 // evaluated before. `memory`: the method's memory span, or an empty one.
 template <class Rule>
 void given_acceleration_pass(const StepArrays& s, Vec3Span memory, ConstVec3Span a, Rule rule) {
+    auto run = [&](auto has_memory, auto fresh) {
+        run_at_width(
+            wide_loops(s),
+            [](auto... p) { given_loop<decltype(has_memory)::value, decltype(fresh)::value, Rule>(p...); }, s.x.c[0],
+            s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], a.c[0], a.c[1],
+            a.c[2], s.x.n, rule);
+    };
     const bool fresh = !s.memory_valid;
-    auto* loop = memory.n == 0 ? (fresh ? &given_loop<false, true, Rule> : &given_loop<false, false, Rule>)
-                               : (fresh ? &given_loop<true, true, Rule> : &given_loop<true, false, Rule>);
-    loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], a.c[0],
-         a.c[1], a.c[2], s.x.n, rule);
+    if (memory.n == 0) {
+        fresh ? run(std::false_type{}, std::true_type{}) : run(std::false_type{}, std::false_type{});
+    } else {
+        fresh ? run(std::true_type{}, std::true_type{}) : run(std::true_type{}, std::false_type{});
+    }
 }
 
 template <class Rule>
@@ -271,9 +298,11 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    kick_drift_loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
+    run_at_width(
+        wide_loops(s), [](auto... a) { kick_drift_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1],
+        s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
     dynamics.acceleration(t + h, s.first, s.x, s.v, s.a);
-    axpy(s.v, 0.5 * h, s.a);
+    axpy(wide_loops(s), s.v, 0.5 * h, s.a);
 }
 
 // Velocity Verlet, order 2:
@@ -296,10 +325,12 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
     const Vec3Span v_predicted = s.scratch(0);
-    verlet_first_half_loop(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2],
-                           v_predicted.c[0], v_predicted.c[1], v_predicted.c[2], s.x.n, h);
+    run_at_width(
+        wide_loops(s), [](auto... a) { verlet_first_half_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
+        s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0], v_predicted.c[1], v_predicted.c[2], s.x.n,
+        h);
     dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
-    axpy(s.v, 0.5 * h, s.a);
+    axpy(wide_loops(s), s.v, 0.5 * h, s.a);
 }
 
 // Position (Störmer) Verlet, order 2:
@@ -385,10 +416,8 @@ inline void field_runge_kutta(P3& x, P3& v, const Accel& accel, double h, std::i
 
 // The array path's stage I: X_I = x + Σ_J (h a_IJ) V_J and V_I = v + Σ_J
 // (h a_IJ) A_J over the non-zero a_IJ, J ascending, in one pass over the
-// particles.
-// A few particles go one at a time (no vector loop to set up: a one-particle
-// step costs ~100 ns); more go component by component, vectorised.
-constexpr std::size_t kFewParticles = 16;
+// particles. A few particles go one at a time; more go component by
+// component, vectorised.
 
 template <const auto& kTableau, std::size_t I, std::size_t... J>
 void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
@@ -413,6 +442,63 @@ void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v,
     }
 }
 
+// The step's pass: x' = x + Σ_i (h b_i) V_i, v' = v + Σ_i (h b_i) A_i, i
+// ascending. Many particles go component by component, the arrays' pointers
+// held in locals (read through the spans, they are reloaded every iteration
+// and the loop is not vectorised); ivdep: the stage arrays never overlap x
+// or v (scratch, or v itself for a stage that is the state, only read).
+template <const auto& kTableau>
+void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    constexpr std::size_t S = std::size(kTableau.b);
+    auto sum = [h]<std::size_t... I>(double& X, double& V, const double* const* sv, const double* const* sa,
+                                     std::size_t p, std::index_sequence<I...>) {
+        ((X += (h * kTableau.b[I]) * sv[I][p], V += (h * kTableau.b[I]) * sa[I][p]), ...);
+    };
+    for (int k = 0; k < 3; ++k) {
+        double* x = s.x.c[k];
+        double* v = s.v.c[k];
+        const double* sv[S];
+        const double* sa[S];
+        for (std::size_t i = 0; i < S; ++i) sv[i] = stage_v[i].c[k], sa[i] = stage_a[i].c[k];
+        if (s.x.n <= kFewParticles) {
+            for (std::size_t p = 0; p < s.x.n; ++p) {
+                double X = x[p], V = v[p];
+                sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
+                x[p] = X, v[p] = V;
+            }
+            continue;
+        }
+#pragma GCC ivdep
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            double X = x[p], V = v[p];
+            sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
+            x[p] = X, v[p] = V;
+        }
+    }
+}
+
+// Stage I's pass and the step's, at the block's width. The lambdas take
+// their data as arguments, not captures: read through a closure, the loops
+// are not vectorised.
+template <const auto& kTableau, std::size_t I>
+void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    run_at_width(
+        wide_loops(s),
+        [](const StepArrays* block, Vec3Span x, const Vec3Span* v, const Vec3Span* a, double step) {
+            array_stage<kTableau, I>(*block, x, v, a, step, std::make_index_sequence<I>{});
+        },
+        &s, stage_x, stage_v, stage_a, h);
+}
+template <const auto& kTableau>
+void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    run_at_width(
+        wide_loops(s),
+        [](const StepArrays* block, const Vec3Span* v, const Vec3Span* a, double step) {
+            step_pass<kTableau>(*block, v, a, step);
+        },
+        &s, stage_v, stage_a, h);
+}
+
 // Stage i's row of a is all zeros: X_i = x, V_i = v.
 template <const auto& kTableau>
 constexpr bool stage_is_state(std::size_t i) {
@@ -435,7 +521,6 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
         field_runge_kutta<kTableau>(x, v, accel, h, std::make_index_sequence<S>{});
     };
     if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
-    const std::size_t n = s.x.n;
     const Vec3Span stage_x = s.scratch(0);
     Vec3Span stage_v[S];
     Vec3Span stage_a[S];
@@ -449,33 +534,13 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     // Each stage, then the step, in one pass over the particles (the
     // tableau's zeros known at compile time).
     [&]<std::size_t... I>(std::index_sequence<I...>) {
-        (((stage_is_state<kTableau>(I)
-               ? void()
-               : array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{})),
+        (((stage_is_state<kTableau>(I) ? void() : run_stage_pass<kTableau, I>(s, stage_x, stage_v, stage_a, h)),
           dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_is_state<kTableau>(I) ? s.x : stage_x, stage_v[I],
                                 stage_a[I])),
          ...);
     }
     (std::make_index_sequence<S>{});
-    auto point = [&](int k, std::size_t p) {
-        double X = s.x.c[k][p], V = s.v.c[k][p];
-#pragma GCC unroll 8
-        for (std::size_t i = 0; i < S; ++i) {
-            X += (h * kTableau.b[i]) * stage_v[i].c[k][p];
-            V += (h * kTableau.b[i]) * stage_a[i].c[k][p];
-        }
-        s.x.c[k][p] = X;
-        s.v.c[k][p] = V;
-    };
-    if (n <= kFewParticles) {
-        for (std::size_t p = 0; p < n; ++p) {
-            for (int k = 0; k < 3; ++k) point(k, p);
-        }
-    } else {
-        for (int k = 0; k < 3; ++k) {
-            for (std::size_t p = 0; p < n; ++p) point(k, p);
-        }
-    }
+    run_step_pass<kTableau>(s, stage_v, stage_a, h);
 }
 
 }  // namespace
@@ -531,8 +596,9 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
         field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
-        backward_euler_diagonal(s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], dynamics.mass() + s.first,
-                                dynamics.inv_mass() + s.first, n, *field, h);
+        run_at_width(
+            wide_loops(s), [](auto... a) { backward_euler_diagonal(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
+            s.v.c[1], s.v.c[2], dynamics.mass() + s.first, dynamics.inv_mass() + s.first, n, *field, h);
         dynamics.count_evaluations(n);
         return;
     }

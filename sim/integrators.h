@@ -51,6 +51,9 @@ struct StepArrays {
     Vec3Span x_prev;  // position one step back, m (Memory::previous_position only)
     bool memory_valid = false;
     Vec3Array* temporaries = nullptr;  // (the method's scratch_arrays) each of at least x.n points
+    // Run the loops' AVX2 builds (sim/cpu.h: the same bits), on a block of
+    // more than a few particles; only where the CPU has AVX2.
+    bool wide = false;
 
     // Temporary k for this block, contents undefined.
     Vec3Span scratch(std::size_t k) const { return temporaries[k].span().block(0, x.n); }

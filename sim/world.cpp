@@ -1,5 +1,6 @@
 #include "sim/world.h"
 
+#include "sim/cpu.h"
 #include "sim/error.h"
 
 #include <algorithm>
@@ -113,6 +114,12 @@ World::World(ParticleModel model)
     for (const ParticleDef& p : model_.particles) radius_.push_back(p.radius);
     systems_ = systems_of(model_, watchdog_);
     initial_energy_ = energy();
+    set_wide(true);
+}
+
+void World::set_wide(bool wide) {
+    wide_ = wide && avx2_available();
+    forces_.set_wide(wide_);
 }
 
 void World::set_watchdog(const WatchdogLimits& limits) {
@@ -501,13 +508,14 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
         const std::size_t count = std::min(block, n - first);
         // Every member given (no zeroing first: this runs every substep).
         const StepArrays s{
-            first,
-            state_.x.span().block(first, count),
-            state_.v.span().block(first, count),
-            info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
-            info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
-            memory_valid_,
-            scratch_.data()};
+            .first = first,
+            .x = state_.x.span().block(first, count),
+            .v = state_.v.span().block(first, count),
+            .a = info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
+            .x_prev = info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
+            .memory_valid = memory_valid_,
+            .temporaries = scratch_.data(),
+            .wide = wide_};
         info.step(forces_, s, state_.t, h);
         // The watchdog's per-particle rules while the block is still in cache.
         if (watch_blocks) suspects += count_suspects(watchdog_, s.x, s.v);

@@ -99,6 +99,12 @@ public:
     // validates them (InputError) and takes the current energy as E0.
     void set_watchdog(const WatchdogLimits& limits);
     const WatchdogLimits& watchdog() const { return watchdog_; }
+
+    // Whether the particles' passes run their AVX2 builds (sim/cpu.h): on by
+    // default where the CPU has AVX2. The same bits either way; tests and
+    // benchmarks turn it off to compare.
+    void set_wide(bool wide);
+    bool wide() const { return wide_; }
     const Verdict& verdict() const { return verdict_; }
     // Explosions the watchdog contained (WatchdogLimits::contain), in order:
     // the verdict and the name of the range it froze.
@@ -242,6 +248,7 @@ private:
     std::vector<Vec3Array> scratch_;
     std::size_t scratch_arrays_ = 0, scratch_block_ = 0;  // scratch_[0, scratch_arrays_) hold scratch_block_ points
     bool memory_valid_ = false;
+    bool wide_ = false;  // set_wide
     Integrator memory_integrator_ = Integrator::symplectic_euler;
     double memory_h_ = 0.0;
     std::uint64_t steps_ = 0;

@@ -1,6 +1,7 @@
 // sim::World: validation of the description and of the step, substeps,
 // block-by-block stepping, energy.
 #include "sim/world.h"
+#include "sim/cpu.h"
 #include "sim/error.h"
 #include "sim/mass_spring.h"
 #include "sim/problems.h"
@@ -111,6 +112,61 @@ TEST_P(Blocks, BlockByBlockEqualsWholeSystem) {
 INSTANTIATE_TEST_SUITE_P(Explicit, Blocks,
                          testing::Values(Integrator::forward_euler, Integrator::symplectic_euler, Integrator::leapfrog,
                                          Integrator::velocity_verlet, Integrator::position_verlet, Integrator::rk4),
+                         [](const auto& info) { return std::string(integrator_info(info.param).name); });
+
+// The particles' passes run their AVX2 builds where the CPU has it, and the
+// pinned instruction set's otherwise (sim/cpu.h). Both must give the same
+// bits, for every method, on the fused path (the cloud: gravity, linear and
+// quadratic drag) and on the array path (a damped mass-spring cloth with
+// pinned corners, gravity and drag), each over more than a few particles.
+class Widths : public testing::TestWithParam<Integrator> {};
+
+ParticleModel sheet() {
+    ParticleModel model;
+    constexpr int kSide = 9;  // 81 particles
+    for (int i = 0; i < kSide; ++i) {
+        for (int j = 0; j < kSide; ++j) {
+            model.particles.push_back({Vec3(0.1 * i, 2.0, 0.1 * j + 0.01 * i), Vec3(0.0, 0.0, 0.3 * std::sin(i + j)),
+                                       0.02, i == 0 && (j == 0 || j == kSide - 1)});
+        }
+    }
+    Springs springs;
+    for (int i = 0; i < kSide; ++i) {
+        for (int j = 0; j < kSide; ++j) {
+            const auto at = [](int a, int b) { return static_cast<std::uint32_t>(a * kSide + b); };
+            if (i + 1 < kSide) springs.list.push_back({at(i, j), at(i + 1, j), 0.1, 40.0, 0.05});
+            if (j + 1 < kSide) springs.list.push_back({at(i, j), at(i, j + 1), 0.1, 40.0, 0.05});
+            if (i + 1 < kSide && j + 1 < kSide) springs.list.push_back({at(i, j), at(i + 1, j + 1), 0.0, 5.0, 0.0});
+        }
+    }
+    model.forces = {UniformGravity{}, LinearDrag{0.01}, std::move(springs)};
+    return model;
+}
+
+TEST_P(Widths, AvxBuildsGiveThePinnedBuildsBits) {
+    if (!avx2_available()) GTEST_SKIP() << "this CPU has no AVX2: only the pinned builds run";
+    for (const bool cloth : {false, true}) {
+        SCOPED_TRACE(cloth ? "array path (springs)" : "fused path (uniform field)");
+        World wide(cloth ? sheet() : cloud(false));
+        World pinned(cloth ? sheet() : cloud(false));
+        pinned.set_wide(false);
+        ASSERT_TRUE(wide.wide());
+        ASSERT_FALSE(pinned.wide());
+        for (int i = 0; i < 30; ++i) {
+            wide.step({GetParam(), 1.0 / 60.0, 4});
+            pinned.step({GetParam(), 1.0 / 60.0, 4});
+        }
+        ASSERT_FALSE(wide.verdict().exploded()) << wide.verdict().message("the wide run");
+        EXPECT_EQ(wide.state().x.raw(), pinned.state().x.raw()) << "bit-exact";
+        EXPECT_EQ(wide.state().v.raw(), pinned.state().v.raw()) << "bit-exact";
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, Widths, testing::ValuesIn([] {
+                             std::vector<Integrator> all;
+                             for (const IntegratorInfo& info : kIntegrators) all.push_back(info.id);
+                             return all;
+                         }()),
                          [](const auto& info) { return std::string(integrator_info(info.param).name); });
 
 // Backward Euler on gravity and one linear drag solves its diagonal system
