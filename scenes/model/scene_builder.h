@@ -3,11 +3,11 @@
 // readers themselves, one per section family, each in its own file
 // (read_particles.cpp, read_rope.cpp, read_cloth.cpp, read_soft_body.cpp,
 // read_emitters.cpp, read_rigid_bodies.cpp, read_ragdolls.cpp,
-// read_joints.cpp, read_forces.cpp, read_collisions.cpp,
+// read_chains.cpp, read_joints.cpp, read_forces.cpp, read_collisions.cpp,
 // read_run_settings.cpp, read_camera_view.cpp, read_ghosts.cpp).
 // scene_file.cpp calls them in the order below: a reader may use what an
-// earlier one built (springs name particles, joints name bodies, ghosts
-// read forces).
+// earlier one built (springs name particles, chains place a body, joints
+// name bodies, ghosts read forces).
 #pragma once
 
 #include "scenes/model/scene.h"
@@ -80,9 +80,12 @@ void read_soft_bodies(SceneBuilder& b, const Section& top);  // read_soft_body.c
 void read_emitters(SceneBuilder& b, const Section& top);     // read_emitters.cpp
 
 // Rigid bodies (ODE): [[bodies]] and [rigid] (read_rigid_bodies.cpp), [[ragdolls]]
-// (read_ragdolls.cpp), [[joints]] and the mass-ratio warning (read_joints.cpp).
+// (read_ragdolls.cpp), [[chains]] (read_chains.cpp), [[joints]] and the
+// mass-ratio warning (read_joints.cpp). [[bodies]] come first in the model,
+// so a [[bodies]] entry's index is its place in the file.
 void read_rigid_bodies(SceneBuilder& b, const Section& top);
 void read_ragdolls(SceneBuilder& b, const Section& top);
+void read_chains(SceneBuilder& b, const Section& top);
 void read_joints(SceneBuilder& b, const Section& top);
 void read_rigid_settings(SceneBuilder& b, const Section& top);
 void warn_jointed_mass_ratios(SceneBuilder& b);

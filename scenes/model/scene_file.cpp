@@ -55,6 +55,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     read_emitters(b, top);
     read_rigid_bodies(b, top);
     read_ragdolls(b, top);
+    read_chains(b, top);
     read_joints(b, top);
     read_rigid_settings(b, top);
     warn_jointed_mass_ratios(b);

@@ -32,6 +32,7 @@ const std::vector<keys::SectionKeys>& keys::sections() {
         {"bodies", {body}},
         {"bodies.parts", {body_part}},
         {"ragdolls", {ragdoll}},
+        {"chains", {chain}},
         {"joints", {joint}},
         {"watchdog", {watchdog}},
         {"camera", {camera}},

@@ -22,7 +22,7 @@ using Table = std::span<const std::string_view>;
 // The top level: a few keys and the sections below.
 inline constexpr std::string_view top[] = {
     "description", "frames", "checkpoints", "step", "particles", "groups", "ropes", "cloths", "soft_bodies",
-    "emitters", "bodies", "ragdolls", "joints", "rigid", "forces", "constraints", "collisions", "colliders",
+    "emitters", "bodies", "ragdolls", "chains", "joints", "rigid", "forces", "constraints", "collisions", "colliders",
     "watchdog", "camera", "view", "ghosts"};
 inline constexpr std::string_view step[] = {"integrator", "dt", "substeps"};
 
@@ -67,6 +67,8 @@ inline constexpr std::string_view body[] = {"name",    "shape",    "size",     "
 inline constexpr std::string_view body_part[] = {"shape", "size", "offset", "rotation", "density"};
 inline constexpr std::string_view ragdoll[] = {"name",     "height",           "mass",           "position", "rotation",
                                                "velocity", "angular_velocity", "joint_friction", "color"};
+inline constexpr std::string_view chain[] = {"name",   "anchor", "direction", "links", "link_length", "radius",
+                                             "mass",   "fixed",  "color",     "end",   "end_offset"};
 inline constexpr std::string_view joint[] = {"type",
                                              "a",
                                              "b",

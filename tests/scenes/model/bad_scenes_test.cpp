@@ -79,6 +79,7 @@ constexpr BadScene kCorpus[] = {
      "joints[0].type must be one of ball, hinge, universal, slider, fixed (got 'spring')"},
     {"ragdoll_negative_height.toml", 5, "ragdolls[0].height must be > 0 and at most 100, in m (got -1.8)"},
     {"rigid_iterations_zero.toml", 7, "rigid.iterations must be within 1 .. 10000 (got 0)"},
+    {"chain_link_too_short.toml", 7, "chains[0].link_length must be more than twice the radius (0.2 m)"},
     {"ghost_unknown_body.toml", 11, "ghosts[0].body names no body (got 'hamer')"},
 };
 
