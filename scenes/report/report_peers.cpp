@@ -1,6 +1,7 @@
 #include "scenes/report/report_peers.h"
 
 #include "sim/analytic.h"
+#include "sim/cpu.h"
 #include "sim/error.h"
 #include "sim/problems.h"
 #include "sim/world.h"
@@ -200,7 +201,9 @@ struct PeerBatchRun {
 
 // One run of `peer` on the copies: std::vector<double> states, odeint's
 // default range algebra (its temporaries are sized at the first step, then
-// nothing is allocated).
+// nothing is allocated). Its steps are built at our World's width (AVX2
+// where the CPU has it, sim/cpu.h), so that the ratio compares the
+// integrators, not the instruction sets.
 template <class Accel>
 PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& copies, double dt, long steps) {
     const std::size_t n = copies.x0.size();
@@ -222,7 +225,9 @@ PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& c
             accel(s.data(), s.data() + 3 * n, d.data() + 3 * n, n);
         };
         const auto start = Clock::now();
-        for (long i = 0; i < steps; ++i, t += dt) stepper.do_step(f, y, t, dt);
+        sim::run_at_width(sim::avx2_available(), [&] {
+            for (long i = 0; i < steps; ++i, t += dt) stepper.do_step(f, y, t, dt);
+        });
         run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         y.resize(3 * n);
         run.x = std::move(y);
@@ -232,7 +237,11 @@ PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& c
             accel(qq.data(), pp.data(), a.data(), n);
         };
         const auto start = Clock::now();
-        for (long i = 0; i < steps; ++i, t += dt) stepper.do_step(f, std::make_pair(std::ref(q), std::ref(p)), t, dt);
+        sim::run_at_width(sim::avx2_available(), [&] {
+            for (long i = 0; i < steps; ++i, t += dt) {
+                stepper.do_step(f, std::make_pair(std::ref(q), std::ref(p)), t, dt);
+            }
+        });
         run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
         run.x = std::move(q);
     } else {

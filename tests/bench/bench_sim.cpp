@@ -18,6 +18,7 @@
 // oscillator: a pinned anchor and a 1 kg bead), one whole step per iteration
 // (issue 17: <= 50 ns with symplectic Euler, <= 120 ns with RK4).
 #include "bench_world.h"
+#include "sim/cpu.h"
 #include "sim/problems.h"
 #include "sim/world.h"
 
@@ -164,8 +165,11 @@ void hand_loop(HandCloud& c, Body body, std::vector<double>* memory = nullptr) {
     double* mx = kMemory ? memory[0].data() : nullptr;
     double* my = kMemory ? memory[1].data() : nullptr;
     double* mz = kMemory ? memory[2].data() : nullptr;
-    hand_pass<kMemory>(c.x.data(), c.y.data(), c.z.data(), c.vx.data(), c.vy.data(), c.vz.data(), mx, my, mz,
-                       c.m.data(), c.inv_m.data(), c.size(), body);
+    // At the World's width (AVX2 where the CPU has it: sim/cpu.h), so that
+    // the ratio measures the World's overhead, not the instruction set.
+    sim::run_at_width(
+        sim::avx2_available(), [](auto... a) { hand_pass<kMemory>(a...); }, c.x.data(), c.y.data(), c.z.data(),
+        c.vx.data(), c.vy.data(), c.vz.data(), mx, my, mz, c.m.data(), c.inv_m.data(), c.size(), body);
 }
 
 // The methods that keep memory (leapfrog and velocity Verlet the
