@@ -150,6 +150,13 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 }  // namespace
 
 void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const {
+    add_forces(in, f, skip_pinned);
+}
+
+// sum_forces, inlined into acceleration: on one particle on one spring the
+// calls cost as much as the force.
+[[gnu::always_inline]] inline void ParticleForces::add_forces(const ForceInput& in, const Vec3Span& f,
+                                                              bool skip_pinned) const {
     if (has_field_) {
         field_pass(in, f, false);
     } else {
@@ -196,7 +203,7 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     }
     // A pinned particle's acceleration is its force times 0: the spring pass
     // may leave its sum out (see accumulate's skip_pinned).
-    sum_forces(in, a, true);
+    add_forces(in, a, true);
     if (wide_ && a.n > kFew) {
         run_at_width(
             true, [](auto... p) { scale_by_inverse_mass(p...); }, a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);

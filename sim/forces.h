@@ -81,6 +81,7 @@ private:
     // f = every generator's force; skip_pinned: pinned particles' sums may be
     // left out (for accelerations, see the spring pass).
     void sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;
+    void add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;  // the same, inlined
     // a = M⁻¹ (field + central_only_'s force), in one or two passes.
     void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
 

@@ -89,47 +89,6 @@ double apply_plasticity(Springs& springs, const std::vector<double>& rest0, Cons
     return largest;
 }
 
-void accumulate(const Springs& springs, const ForceInput& in, const Vec3Span& f) {
-    // spring_force, written out over the raw component arrays: this loop is
-    // most of a cloth step (24k springs on a 64 x 64 cloth), and going
-    // through Vec3 temporaries cost it a fifth of its speed. The arithmetic
-    // is spring_force's, operation for operation (the same bits). One
-    // division instead of three (d (1 / |d|)) measured no clear gain.
-    const double* __restrict x = in.x.c[0];
-    const double* __restrict y = in.x.c[1];
-    const double* __restrict z = in.x.c[2];
-    const double* __restrict vx = in.v.c[0];
-    const double* __restrict vy = in.v.c[1];
-    const double* __restrict vz = in.v.c[2];
-    double* __restrict fx = f.c[0];
-    double* __restrict fy = f.c[1];
-    double* __restrict fz = f.c[2];
-    for (const Spring& s : springs.list) {
-        const std::uint32_t i = s.i, j = s.j;
-        const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
-        double gx, gy, gz;
-        if (s.rest == 0.0) {
-            gx = s.k * dx, gy = s.k * dy, gz = s.k * dz;
-            // Only the damper needs the length (see spring_force).
-            const double length = s.c != 0.0 ? std::sqrt(dx * dx + dy * dy + dz * dz) : 0.0;
-            if (length > 0.0) {
-                const double nx = dx / length, ny = dy / length, nz = dz / length;
-                const double damp = s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
-                gx += damp * nx, gy += damp * ny, gz += damp * nz;
-            }
-        } else {
-            const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (length == 0.0) continue;
-            const double nx = dx / length, ny = dy / length, nz = dz / length;
-            const double magnitude =
-                s.k * (length - s.rest) + s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
-            gx = magnitude * nx, gy = magnitude * ny, gz = magnitude * nz;
-        }
-        fx[i] += gx, fy[i] += gy, fz[i] += gz;
-        fx[j] -= gx, fy[j] -= gy, fz[j] -= gz;
-    }
-}
-
 double potential_energy(const Springs& springs, const ForceInput& in) {
     double u = 0.0;
     for (const Spring& s : springs.list) {
