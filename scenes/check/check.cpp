@@ -84,7 +84,10 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
 
 fs::path default_golden_dir() { return fs::path(PLAUSIBLE_SOURCE_DIR) / "golden"; }
 
-Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, const FilmstripSettings& settings) {
+namespace {
+
+// The filmstrip, or with no renderer its hashes alone (no image, no GL).
+Filmstrip run_filmstrip(const SceneDef& scene, render::Renderer* renderer, const FilmstripSettings& settings) {
     Filmstrip strip;
     SceneRun run(scene);
     std::vector<render::Image> tiles;
@@ -94,7 +97,9 @@ Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, co
     for (int checkpoint : scene.checkpoints) {
         while (run.frame() < checkpoint && run.advance()) {
         }
-        tiles.push_back(renderer.render(run.draw_list(settings.width, settings.height), render_settings));
+        if (renderer != nullptr) {
+            tiles.push_back(renderer->render(run.draw_list(settings.width, settings.height), render_settings));
+        }
         strip.frames.push_back(run.frame());
         strip.times.push_back(run.time());
         strip.hashes.push_back(run.state_hash_hex());
@@ -104,6 +109,8 @@ Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, co
         }
         labels.push_back("frame " + std::to_string(run.frame()) + " · " + format_time(run.time()));
     }
+    strip.verdict = run.verdict();
+    if (renderer == nullptr) return strip;
     // Checkpoints after an explosion: dark tiles, so the strip keeps the
     // golden's layout and the diff shows where the run stopped.
     for (std::size_t i = tiles.size(); i < scene.checkpoints.size(); ++i) {
@@ -113,9 +120,14 @@ Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, co
         tiles.push_back(std::move(tile));
         labels.push_back("frame " + std::to_string(scene.checkpoints[i]) + ": not reached");
     }
-    strip.verdict = run.verdict();
     strip.image = render::contact_sheet(tiles, labels, render::Font::default_font());
     return strip;
+}
+
+}  // namespace
+
+Filmstrip render_filmstrip(const SceneDef& scene, render::Renderer& renderer, const FilmstripSettings& settings) {
+    return run_filmstrip(scene, &renderer, settings);
 }
 
 namespace {
@@ -192,6 +204,7 @@ void judge_exploded(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip
                     const Evidence& evidence) {
     c.status = SceneCheck::Status::exploded;
     c.message = strip.verdict.message(scene.name);
+    if (strip.image.pixels.empty()) return;  // physics only: no images
     c.actual_png = evidence.keep("actual.png", strip.image);
     if (!golden.present) return;
     const render::Image expected = render::read_png(golden.png, 3);
@@ -251,20 +264,41 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
     }
 }
 
+// Physics only (no renderer): the state hashes against the golden's, the
+// images not compared.
+void judge_physics(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden) {
+    if (!golden.present) {
+        c.status = SceneCheck::Status::missing;
+        c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
+        return;
+    }
+    if (c.first_hash_mismatch < 0) {
+        c.status = SceneCheck::Status::pass;
+        c.message = "state hashes identical (physics only: images not compared)";
+        return;
+    }
+    const int i = c.first_hash_mismatch;
+    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+    c.status = SceneCheck::Status::fail;
+    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
+                "): state hash differs (physics only: images not compared)";
+}
+
 // One scene: loaded, its filmstrip rendered, judged. Bad input (the scene
 // file, the golden's JSON, the renderer) is the scene's error, not the run's.
+// With no renderer, physics only (judge_physics).
 SceneCheck check_scene(const std::string& name, const std::vector<Override>& overrides, const CheckOptions& options,
-                       render::Renderer& renderer, const render::Fingerprint& fingerprint, const fs::path& golden_dir,
+                       render::Renderer* renderer, const render::Fingerprint* fingerprint, const fs::path& golden_dir,
                        const fs::path& report_dir) {
     const auto start = std::chrono::steady_clock::now();
     SceneCheck c;
     c.scene = name;
-    c.fingerprint_actual = fingerprint.summary();
+    c.fingerprint_actual = fingerprint != nullptr ? fingerprint->summary() : "none (physics only)";
     const Evidence evidence{report_dir, c};
     try {
         const SceneDef scene = load_scene(resolve_scene(name), overrides);
         c.scene = scene.name;
-        const Filmstrip strip = render_filmstrip(scene, renderer);
+        const Filmstrip strip = run_filmstrip(scene, renderer, {});
         const Golden golden = read_golden(golden_dir, scene.name);
         compare_hashes(c, strip, golden.previous);
         if (golden.previous.contains("fingerprint")) {
@@ -272,10 +306,12 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
         }
         if (strip.verdict.exploded()) {
             judge_exploded(c, scene, strip, golden, evidence);
+        } else if (renderer == nullptr) {
+            judge_physics(c, scene, strip, golden);
         } else if (!golden.present) {
-            judge_missing(c, scene, strip, golden, fingerprint, options, golden_dir, evidence);
+            judge_missing(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
         } else {
-            judge_against_golden(c, scene, strip, golden, fingerprint, options, golden_dir, evidence);
+            judge_against_golden(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
         }
     } catch (const sim::InputError& e) {
         c.status = SceneCheck::Status::error;
@@ -288,11 +324,10 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
     return c;
 }
 
-}  // namespace
-
-std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, const std::vector<Override>& overrides,
-                                     const CheckOptions& options, render::Renderer& renderer,
-                                     const render::Fingerprint& fingerprint) {
+// Every scene, with a renderer or (both null) physics only.
+std::vector<SceneCheck> run_checks(const std::vector<std::string>& names, const std::vector<Override>& overrides,
+                                   const CheckOptions& options, render::Renderer* renderer,
+                                   const render::Fingerprint* fingerprint) {
     const fs::path golden_dir = options.golden_dir.empty() ? default_golden_dir() : options.golden_dir;
     const fs::path report_dir = options.report_dir.empty() ? fs::path("out/check") : options.report_dir;
     fs::create_directories(report_dir);
@@ -302,6 +337,22 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, cons
     }
     write_check_report(report_dir, results);
     return results;
+}
+
+}  // namespace
+
+std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, const std::vector<Override>& overrides,
+                                     const CheckOptions& options, render::Renderer& renderer,
+                                     const render::Fingerprint& fingerprint) {
+    return run_checks(names, overrides, options, &renderer, &fingerprint);
+}
+
+std::vector<SceneCheck> check_physics(const std::vector<std::string>& names, const std::vector<Override>& overrides,
+                                      const CheckOptions& options) {
+    if (options.update != UpdateMode::none) {
+        throw sim::InputError("a physics-only check cannot write goldens (they hold images): drop --update");
+    }
+    return run_checks(names, overrides, options, nullptr, nullptr);
 }
 
 }  // namespace scenes

@@ -50,4 +50,11 @@ std::vector<SceneCheck> check_scenes(const std::vector<std::string>& scenes, con
                                      const CheckOptions& options, render::Renderer& renderer,
                                      const render::Fingerprint& fingerprint);
 
+// The same without images: each checkpoint's state hash against the
+// golden's, nothing rendered (no GL), so that it runs anywhere, fast (under
+// an emulated CPU: tests/portability). Writes no goldens (InputError when
+// options.update asks to).
+std::vector<SceneCheck> check_physics(const std::vector<std::string>& scenes, const std::vector<Override>& overrides,
+                                      const CheckOptions& options);
+
 }  // namespace scenes

@@ -19,6 +19,7 @@ struct CheckArgs {
     std::string update = "none";
     std::string report = "out/check";
     std::string backend = "osmesa";
+    bool physics_only = false;
 };
 
 UpdateMode parse_update(const std::string& text) {
@@ -39,9 +40,14 @@ int check(const CheckArgs& a) {
     }
     o.report_dir = a.report;
     const std::vector<std::string> names = a.scenes.empty() ? catalog() : a.scenes;
-    const auto context = render::create_context({.backend = parse_backend(a.backend)});
-    render::Renderer renderer(*context);
-    const auto results = check_scenes(names, overrides, o, renderer, context->fingerprint());
+    std::vector<SceneCheck> results;
+    if (a.physics_only) {
+        results = check_physics(names, overrides, o);
+    } else {
+        const auto context = render::create_context({.backend = parse_backend(a.backend)});
+        render::Renderer renderer(*context);
+        results = check_scenes(names, overrides, o, renderer, context->fingerprint());
+    }
     int passed = 0, failed = 0, errors = 0;
     for (const SceneCheck& c : results) {
         const bool ok = c.status == SceneCheck::Status::pass || c.status == SceneCheck::Status::updated;
@@ -66,6 +72,8 @@ Command add_check(CLI::App& app) {
     cmd->add_option("--report", args->report, "Folder for the report (index.html, report.json, images)")
         ->capture_default_str();
     cmd->add_option("--backend", args->backend, "osmesa or egl")->capture_default_str();
+    cmd->add_flag("--physics-only", args->physics_only,
+                  "Compare state hashes only: nothing rendered, no GL (fast; e.g. under an emulated CPU)");
     return {cmd, [args] { return check(*args); }};
 }
 

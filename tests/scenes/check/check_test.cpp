@@ -165,6 +165,30 @@ TEST_F(CheckTest, PerSceneThresholdsNeedAReasonAndAreApplied) {
     EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
 }
 
+// Physics only: nothing rendered, the state hashes judged alone. A painted
+// golden image does not matter; a changed step does; goldens are never
+// written.
+TEST(CheckPhysics, JudgesTheStateHashesAloneAndWritesNoGolden) {
+    const fs::path report = results("physics-only");
+    const fs::path golden = golden_copy(report / "golden", {"ballistic"});
+    tamper(golden / "ballistic.png");
+    CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
+
+    auto r = check_physics({"ballistic"}, {}, options);
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+    EXPECT_FALSE(r[0].image.has_value()) << "no image compared";
+    EXPECT_TRUE(r[0].actual_png.empty());
+    EXPECT_TRUE(fs::exists(report / "report.json"));
+
+    r = check_physics({"ballistic"}, {{"step.dt", "0.01"}}, options);
+    EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+    EXPECT_EQ(r[0].message.rfind("physics changed at checkpoint 1", 0), 0u) << r[0].message;
+
+    options.update = UpdateMode::changed;
+    EXPECT_THROW(check_physics({"ballistic"}, {}, options), sim::InputError);
+}
+
 TEST_F(CheckTest, UpdateChangedRewritesOnlyTheFailingScenes) {
     const fs::path report = results("update-changed");
     const fs::path golden = golden_copy(report / "golden", {"ballistic", "pendulum"});
