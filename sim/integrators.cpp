@@ -107,9 +107,7 @@ struct P3 {
     double x, y, z;
 };
 inline P3 operator+(P3 a, P3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline P3 operator-(P3 a, P3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 inline P3 operator*(double s, P3 a) { return {s * a.x, s * a.y, s * a.z}; }
-inline P3 operator/(P3 a, double s) { return {a.x / s, a.y / s, a.z / s}; }
 
 // The field's acceleration on one particle at velocity v: field_force / m,
 // the same products as ParticleForces' field pass (0 for a pinned particle).
@@ -468,7 +466,11 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
             }
             continue;
         }
+#if defined(__clang__)
+#pragma clang loop vectorize(assume_safety)
+#else
 #pragma GCC ivdep
+#endif
         for (std::size_t p = 0; p < s.x.n; ++p) {
             double X = x[p], V = v[p];
             sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
