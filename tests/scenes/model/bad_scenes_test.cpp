@@ -1,6 +1,7 @@
 // The malformed scene corpus (tests/data/bad_scenes/): every file makes
 // `plausible run FILE --csv OUT` exit 2 with a message that names the file and
-// the line, says what was wrong, and writes nothing.
+// the line, says what was wrong, and writes nothing. And values at the edge of
+// what the loader accepts, which run as they say.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -138,6 +140,46 @@ TEST(BadSceneCorpus, EveryFileOfTheCorpusIsListed) {
         EXPECT_TRUE(listed) << entry.path() << " has no expectation in kCorpus";
     }
     EXPECT_GE(files, 25u);
+}
+
+// Radii of 1e-20 m with particle collisions: the collision grid's cells of
+// 2 r over a metre were 5e19 a side, the conversion to an integer overflowed
+// and the run died with "cannot create std::vector larger than max_size()"
+// (exit 1). Now it runs, and the pair overlapping by half a radius is pushed
+// apart along the line of centres, half the overlap each: -0.25 r and 1.75 r.
+TEST(EdgeValues, RadiiOf1e20MetreCollideThroughTheCommand) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_tiny_radii_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "tiny.toml") << R"(description = "Radii of 1e-20 m, colliding."
+frames = 1
+[[particles]]
+position = [0, 1, 0]
+radius = 1e-20
+[[particles]]
+position = [1.5e-20, 1, 0]
+radius = 1e-20
+[[particles]]
+position = [1, 1, 0]
+radius = 1e-20
+[collisions]
+particles = true
+)";
+    const Result r = run("run '" + (dir / "tiny.toml").string() + "' --csv '" + (dir / "out.csv").string() + "'", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream csv(dir / "out.csv");
+    std::string line;
+    std::map<int, double> x;  // particle -> x at frame 1, m
+    while (std::getline(csv, line)) {
+        int frame = 0, id = 0;
+        double t = 0, px = 0;
+        if (std::sscanf(line.c_str(), "%d,%lf,particle,%d,%lf", &frame, &t, &id, &px) == 4 && frame == 1) x[id] = px;
+    }
+    ASSERT_EQ(x.size(), 3u);
+    EXPECT_NEAR(x[0], -0.25e-20, 1e-26) << "m";
+    EXPECT_NEAR(x[1], 1.75e-20, 1e-26) << "m";
+    EXPECT_EQ(x[2], 1.0) << "m: untouched";
+    fs::remove_all(dir);
 }
 
 TEST(SetOverrides, BadValuesNameTheOverride) {
