@@ -83,6 +83,9 @@ constexpr BadScene kCorpus[] = {
     {"rigid_iterations_zero.toml", 7, "rigid.iterations must be within 1 .. 10000 (got 0)"},
     {"chain_link_too_short.toml", 7, "chains[0].link_length must be more than twice the radius (0.2 m)"},
     {"ghost_unknown_body.toml", 11, "ghosts[0].body names no body (got 'hamer')"},
+    {"rigid_sleep_time_huge.toml", 8,
+     "rigid.sleep_time must be > 0 and at most 1e+06, in s (11.6 days; a longer rest means never: say sleep = false) "
+     "(got 1e+300)"},
 };
 
 struct Result {
