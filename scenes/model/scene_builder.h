@@ -106,6 +106,11 @@ void read_view(SceneBuilder& b, const Section& top);
 // [[ghosts]]: closed forms from the scene's own parameters (read_ghosts.cpp).
 void read_ghosts(SceneBuilder& b, const Section& top);
 
+// Last, once the scene is whole: work that grows faster than the file (Newton
+// gravity's pairs, times the integrator's passes and the substeps), refused
+// with its estimate (work_limits.cpp).
+void refuse_quadratic_work(SceneBuilder& b, const Section& top);
+
 // --- Shared by the rope, cloth and soft-body readers (particle_body.cpp) ----------------
 
 // link, stiffness, damping, compliance, tethers.
