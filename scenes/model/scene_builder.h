@@ -107,9 +107,9 @@ void read_view(SceneBuilder& b, const Section& top);
 void read_ghosts(SceneBuilder& b, const Section& top);
 
 // Last, once the scene is whole: work that grows faster than the file (Newton
-// gravity's pairs, times the integrator's passes and the substeps), refused
-// with its estimate (work_limits.cpp).
-void refuse_quadratic_work(SceneBuilder& b, const Section& top);
+// gravity's pairs, times the integrator's passes and the substeps; trails,
+// particles times frames), refused with its estimate (work_limits.cpp).
+void refuse_work_too_large(SceneBuilder& b, const Section& top);
 
 // --- Shared by the rope, cloth and soft-body readers (particle_body.cpp) ----------------
 

@@ -1,15 +1,19 @@
 // Work that grows faster than the scene file: refused at load, with the
 // estimate. Every other cost of a scene is linear in what the file lists
 // (particles, links, bodies) times frames and substeps, and the readers'
-// limits bound each of those. Newton gravity pairs every particle with every
-// other: one key on a group of a million particles asks for 5e11 pair
-// evaluations a pass, more than an hour a frame. Backward Euler makes it
-// worse: its Jacobian is dense, so each substep factors a dense 3n x 3n
-// system. The estimate comes from counts and fixed costs per unit, so the
-// verdict is the same on every machine; the costs are this machine's, to
-// say what the counts mean in seconds.
+// limits bound each of those. Two keys multiply instead:
+//  - Newton gravity pairs every particle with every other: one key on a
+//    group of a million particles asks for 5e11 pair evaluations a pass,
+//    more than an hour a frame. Backward Euler makes it worse: its Jacobian
+//    is dense, so each substep factors a dense 3n x 3n system.
+//  - [view] trail_frames keeps that many positions of every moving
+//    particle: 1e5 frames behind 1e6 particles is a terabyte.
+// The estimates come from counts and fixed costs per unit, so the verdict
+// is the same on every machine; the costs are this machine's, to say what
+// the counts mean in seconds and bytes.
 #include "scenes/model/scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace scenes::loader {
@@ -62,9 +66,16 @@ double most_particles(const SceneDef& scene) {
     return lo;
 }
 
-}  // namespace
+// One point of a particle's trail, bytes: SceneRun keeps the last
+// trail_frames + 1 positions of each moving particle as three floats, in a
+// std::deque whose 512-byte nodes hold 42 of them.
+constexpr double kTrailPointBytes = 512.0 / 42.0;
+// At most this many trail points by the last frame, about 610 MB: a trail
+// of 120 frames behind 400,000 particles. More runs a machine out of memory
+// before the run ends.
+constexpr double kMaxTrailPoints = 5e7;
 
-void refuse_quadratic_work(SceneBuilder& b, const Section& top) {
+void refuse_newton_gravity(const SceneBuilder& b, const Section& top) {
     const SceneDef& scene = b.scene;
     if (b.find_force<sim::NewtonGravity>() == nullptr) return;
     const Cost c = newton_cost(scene, static_cast<double>(scene.model.particles.size()));
@@ -90,6 +101,36 @@ void refuse_quadratic_work(SceneBuilder& b, const Section& top) {
                  " s a frame, so that no run hangs for hours (Newton gravity is meant for a few bodies): these "
                  "settings allow at most " +
                  sim::format_value(most_particles(scene)) + " particles");
+}
+
+void refuse_trails(const SceneBuilder& b, const Section& top) {
+    const SceneDef& scene = b.scene;
+    if (scene.view.trail_frames <= 0) return;
+    // The particles that can move: the free ones and every emitter's (parked,
+    // pinned, until born). Pinned ones keep no trail.
+    std::size_t moving = 0;
+    for (const sim::ParticleDef& p : scene.model.particles) moving += p.pinned ? 0 : 1;
+    for (const sim::Emitter& e : scene.model.emitters) moving += e.count;
+    const double kept = std::min(scene.view.trail_frames, scene.frames) + 1.0;  // positions a trail holds at the end
+    const double points = static_cast<double>(moving) * kept;
+    if (points <= kMaxTrailPoints) return;
+    const toml::table* view = top.subtable("view");
+    b.r.fail(view != nullptr ? view->get("trail_frames") : nullptr,
+             "view.trail_frames = " + std::to_string(scene.view.trail_frames) + " behind " + std::to_string(moving) +
+                 " moving particles keeps " + sim::format_value(points) + " trail points by frame " +
+                 std::to_string(scene.frames) + " (the last " + sim::format_value(kept) + " positions of each, " +
+                 sim::format_value(std::round(kTrailPointBytes * 10.0) / 10.0) + " bytes a point): about " +
+                 sim::format_value(std::round(points * kTrailPointBytes / 1e8) / 10.0) + " GB; at most " +
+                 sim::format_value(kMaxTrailPoints) + " points (about " +
+                 sim::format_value(std::round(kMaxTrailPoints * kTrailPointBytes / 1e6)) +
+                 " MB), so that a run cannot run out of memory: a shorter trail, or fewer particles");
+}
+
+}  // namespace
+
+void refuse_work_too_large(SceneBuilder& b, const Section& top) {
+    refuse_newton_gravity(b, top);
+    refuse_trails(b, top);
 }
 
 }  // namespace scenes::loader

@@ -87,6 +87,8 @@ constexpr BadScene kCorpus[] = {
      "rigid.sleep_time must be > 0 and at most 1e+06, in s (11.6 days; a longer rest means never: say sleep = false) "
      "(got 1e+300)"},
     {"wind_gust_period_tiny.toml", 8, "forces.wind.gust_period must be within 0.001 .. 1e+06, in s (got 1e-300)"},
+    {"trail_frames_huge.toml", 9,
+     "view.trail_frames = 1000 behind 1000000 moving particles keeps 6.01e+08 trail points by frame 600"},
     {"newton_gravity_huge_group.toml", 7,
      "forces.newton_gravity on 1000000 particles is O(n²): n (n - 1) / 2 = 499999500000 pairs, evaluated 2 times a "
      "frame"},

@@ -1,8 +1,9 @@
 // Work that grows faster than the file (scenes/model/work_limits.cpp): Newton
 // gravity is refused where a frame would cost more than a second by the
 // loader's estimate, n (n - 1) / 2 pairs x the passes a frame at 10 ns a pair,
-// plus backward Euler's dense (3n)³/3 flops a substep at 4 ns. The boundaries
-// below are worked out by hand from that estimate.
+// plus backward Euler's dense (3n)³/3 flops a substep at 4 ns; trails where
+// they would hold more than 5e7 points. The boundaries below are worked out
+// by hand from those rules.
 #include "scenes/model/scene.h"
 
 #include <gtest/gtest.h>
@@ -60,6 +61,29 @@ TEST(WorkLimits, TheWatchdogsEnergyRuleAddsAPassEverySubstep) {
     const std::string watched = "\n[watchdog]\nenergy_growth = 2\n";
     EXPECT_EQ(refusal(newton_group(8'165) + watched), "");
     EXPECT_NE(refusal(newton_group(8'166) + watched).find("3 times a frame"), std::string::npos);
+}
+
+// Trails: moving particles x (min(trail_frames, frames) + 1) <= 5e7 points.
+TEST(WorkLimits, TrailsStopAtFiftyMillionPoints) {
+    auto trails = [](int frames, int trail_frames, const std::string& more = "") {
+        return "description = \"d\"\nframes = " + std::to_string(frames) +
+               "\n[[groups]]\ncount = 50000\nspacing = [0.01, 0, 0]\n" + more +
+               "[view]\ntrail_frames = " + std::to_string(trail_frames) + "\n";
+    };
+    EXPECT_EQ(refusal(trails(2000, 999)), "") << "50000 x 1000 = 5e7";
+    const std::string big = refusal(trails(2000, 1000));
+    EXPECT_NE(big.find("galaxy.toml:7:16: view.trail_frames = 1000 behind 50000 moving particles keeps 50050000 "
+                       "trail points by frame 2000"),
+              std::string::npos)
+        << big;
+    EXPECT_EQ(refusal(trails(999, 5000)), "") << "the run ends first: 50000 x 1000";
+    // Pinned particles keep no trail; an emitter's particles, parked until born, do.
+    EXPECT_NE(refusal(trails(2000, 1000, "[[particles]]\nposition = [0, 1, 0]\npinned = true\n"))
+                  .find("behind 50000 moving particles"),
+              std::string::npos)
+        << "the pinned one is not counted";
+    EXPECT_NE(refusal(trails(2000, 999, "[[emitters]]\ncount = 10\n")).find("50010 moving particles"),
+              std::string::npos);
 }
 
 }  // namespace
