@@ -156,16 +156,41 @@ struct PairGrid {
     std::size_t cells = 0;
 
     // The cell along one axis of a coordinate p (m), clamped into the grid.
+    // The quotient is clamped as a double before it becomes an integer: a
+    // coordinate beyond the grid (or a quotient of infinities, NaN) cannot
+    // overflow the conversion.
     std::int32_t axis(double p, double origin, std::int64_t count) const {
-        return static_cast<std::int32_t>(std::min(static_cast<std::int64_t>((p - origin) / cell), count - 1));
+        const double q = (p - origin) / cell;
+        const double last = static_cast<double>(count - 1);
+        return static_cast<std::int32_t>(q < last ? std::max(q, 0.0) : last);
     }
 };
+
+// A particle the grid holds: free, of some size, and somewhere (a position
+// that is not finite has already blown up: the watchdog names it after this
+// substep, and it must not stretch the grid to infinity first).
+inline bool in_grid(ConstVec3Span x, const double* radius, const double* inv_mass, std::size_t i) {
+    return inv_mass[i] != 0.0 && radius[i] > 0.0 && std::isfinite(x.c[0][i]) && std::isfinite(x.c[1][i]) &&
+           std::isfinite(x.c[2][i]);
+}
+
+// Cells along an axis of the given extent (m): floor(extent / cell) + 1, in
+// double. A tiny radius (1e-20 m) over a metre is 5e19 cells, more than an
+// int64 holds: the count stays a double until the coarsening below has made
+// it small. An infinite extent (particles beyond ±9e307 m) over an infinite
+// cell is NaN: one cell.
+double cells_along(double extent, double cell) {
+    const double q = extent / cell;
+    return std::isnan(q) ? 1.0 : std::floor(q) + 1.0;
+}
 
 // Only free particles enter the grid: pinned ones (and an emitter's parked
 // ones, all in one place) are not obstacles to each other or to anyone.
 // Cells of 2 r_max (a particle's neighbours are in the cells around its
 // own), coarsened while the grid would have more than 16 cells per particle
-// (a far outlier). Cells are numbered x fastest, so the three cells of a row
+// (a far outlier, or radii far smaller than the spread: the doubling ends
+// within about 2100 rounds, at the latest when the cell is infinite and the
+// grid one cell). Cells are numbered x fastest, so the three cells of a row
 // dx = -1, 0, 1 are one range of the sorted entries. None: fewer than two
 // free particles.
 std::optional<PairGrid> pair_grid(ConstVec3Span x, const double* radius, const double* inv_mass) {
@@ -174,7 +199,7 @@ std::optional<PairGrid> pair_grid(ConstVec3Span x, const double* radius, const d
     g.hi = -g.lo;
     std::size_t free = 0;
     for (std::size_t i = 0; i < x.n; ++i) {
-        if (inv_mass[i] == 0.0 || radius[i] <= 0.0) continue;
+        if (!in_grid(x, radius, inv_mass, i)) continue;
         g.r_max = std::max(g.r_max, radius[i]);
         const Vec3 p = x.get(i);
         g.lo = g.lo.cwiseMin(p);
@@ -183,13 +208,20 @@ std::optional<PairGrid> pair_grid(ConstVec3Span x, const double* radius, const d
     }
     if (free < 2) return std::nullopt;
     g.cell = 2.0 * g.r_max;
+    const double most = 16.0 * static_cast<double>(free) + 64.0;  // cells
+    double nx = 0.0, ny = 0.0, nz = 0.0;
     for (;;) {
-        g.nx = static_cast<std::int64_t>((g.hi.x() - g.lo.x()) / g.cell) + 1;
-        g.ny = static_cast<std::int64_t>((g.hi.y() - g.lo.y()) / g.cell) + 1;
-        g.nz = static_cast<std::int64_t>((g.hi.z() - g.lo.z()) / g.cell) + 1;
-        if (static_cast<double>(g.nx) * g.ny * g.nz <= 16.0 * static_cast<double>(free) + 64.0) break;
+        nx = cells_along(g.hi.x() - g.lo.x(), g.cell);
+        ny = cells_along(g.hi.y() - g.lo.y(), g.cell);
+        nz = cells_along(g.hi.z() - g.lo.z(), g.cell);
+        if (nx * ny * nz <= most) break;
         g.cell *= 2.0;
     }
+    // Each count is now at most `most` (about 16 cells a particle): exact in
+    // an int64, and the cell ids within an int32 for up to 1e8 particles.
+    g.nx = static_cast<std::int64_t>(nx);
+    g.ny = static_cast<std::int64_t>(ny);
+    g.nz = static_cast<std::int64_t>(nz);
     g.cells = static_cast<std::size_t>(g.nx * g.ny * g.nz);
     return g;
 }
@@ -208,7 +240,7 @@ std::uint32_t sort_into_cells(const PairGrid& g, ConstVec3Span x, const double* 
     s.cell_of.resize(n);
     s.cell_xyz.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        if (inv_mass[i] == 0.0 || radius[i] <= 0.0) {
+        if (!in_grid(x, radius, inv_mass, i)) {
             s.cell_of[i] = -1;
             continue;
         }
@@ -319,8 +351,9 @@ std::size_t resolve_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
         const double dist2 = d.squaredNorm();
         if (dist2 >= reach * reach) continue;  // separated by an earlier pair of this pass
         const double dist = std::sqrt(dist2);
-        // Coincident centres: no direction; separate them along +Y.
-        const Vec3 nrm = dist > 1e-12 ? Vec3(d / dist) : Vec3(Vec3::UnitY());
+        // Coincident centres (closer than 1e-12 of their reach, relative so
+        // that radii of 1e-20 m keep their direction): none; separate them along +Y.
+        const Vec3 nrm = dist > 1e-12 * reach ? Vec3(d / dist) : Vec3(Vec3::UnitY());
         const double depth = reach - dist;
         x.add(i, (depth * wi / (wi + wj)) * nrm);
         x.add(j, (-depth * wj / (wi + wj)) * nrm);

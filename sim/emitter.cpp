@@ -5,7 +5,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <string>
 
@@ -58,19 +60,31 @@ bool born(const Emitter& e, std::uint32_t k, double t) { return static_cast<doub
 std::size_t emit(const Emitter& e, double t0, double t1, ParticleState& state) {
     // Births are at t = (k + n count) / rate: each index b = k + n count with
     // t0 <= b / rate < t1 (half-open, so consecutive steps share no birth).
-    const auto b_first = static_cast<std::int64_t>(std::ceil(t0 * e.rate));
-    const auto b_end = static_cast<std::int64_t>(std::ceil(t1 * e.rate));
-    std::size_t births = 0;
-    for (std::int64_t b = std::max<std::int64_t>(b_first, 0); b < b_end; ++b) {
+    // The indices are counted in double, exact below 2^53: beyond it two
+    // births share an index and the sequence is lost, so that is refused.
+    constexpr double kExact = 0x1p53;  // births, the last index a double counts exactly
+    const double b_first = std::max(std::ceil(t0 * e.rate), 0.0);
+    const double b_end = std::ceil(t1 * e.rate);
+    if (!(b_end <= kExact)) {
+        throw InputError("emitter: " + format_value(b_end) + " births by t = " + format_value(t1) + " s (rate " +
+                         format_value(e.rate) + "/s) are beyond 2^53, where a double no longer counts them");
+    }
+    if (!(b_end > b_first)) return 0;
+    // A particle born twice in [t0, t1) keeps only its last birth (each sets
+    // its x, v and inverse mass anew): of more than `count` births, only the
+    // last `count` are made, with the same bits, so that a step of rate · h
+    // births costs at most `count` of them (rate 1e7/s, h 10 s: 1e8).
+    const auto end = static_cast<std::int64_t>(b_end);
+    const auto first = std::max(static_cast<std::int64_t>(b_first), end - static_cast<std::int64_t>(e.count));
+    for (std::int64_t b = first; b < end; ++b) {
         const auto k = static_cast<std::uint32_t>(b % e.count);
         const std::int64_t n = b / e.count;
         const std::size_t i = e.first + k;
         state.x.set(i, e.position);
         state.v.set(i, launch_velocity(e, k, n));
         state.inv_mass[i] = 1.0 / state.mass[i];
-        ++births;
     }
-    return births;
+    return static_cast<std::size_t>(b_end - b_first);
 }
 
 }  // namespace sim

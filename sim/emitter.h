@@ -43,7 +43,9 @@ Vec3 parked_position(const Emitter& emitter);
 bool born(const Emitter& emitter, std::uint32_t k, double t);
 
 // Births in [t0, t1): each reborn particle goes back to the nozzle with its
-// new velocity and its inverse mass. Returns how many were born.
+// new velocity and its inverse mass. Returns how many were born. Throws
+// InputError once t1 · rate passes 2^53 births (where a double no longer
+// counts them one by one: 28 years at 10 million a second).
 std::size_t emit(const Emitter& emitter, double t0, double t1, ParticleState& state);
 
 }  // namespace sim

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace sim {
 
@@ -73,7 +75,11 @@ void RigidWorld::Impl::sleep(double h) {
     const double energy_limit = 2.0 * settings.sleep_speed * settings.sleep_speed;  // J/kg, ½ (2 v)²
     const double reach = settings.sleep_speed * settings.sleep_time;                // m
     const double blend = std::min(1.0, h / (0.25 * settings.sleep_time));
-    const auto needed = static_cast<std::uint32_t>(std::ceil(settings.sleep_time / h));
+    // Steps idle before sleep, kept a double: sleep_time / h is any positive
+    // number (1e300 s over 1 ms is 1e303 steps, no integer holds it; such a
+    // group never sleeps, as asked), and idle_steps, a uint32, is compared
+    // with it exactly.
+    const double needed = std::ceil(settings.sleep_time / h);
     group_energy.assign(slots.size(), 0.0);
     group_moved.assign(slots.size(), 0.0);
     group_mass.assign(slots.size(), 0.0);
@@ -97,7 +103,10 @@ void RigidWorld::Impl::sleep(double h) {
             const double moved = std::sqrt(group_moved[root] / group_mass[root]);
             s.sleep_energy = group_woken[root] != 0 ? e : s.sleep_energy + blend * (e - s.sleep_energy);
             if (group_woken[root] == 0 && s.idle_steps > 0 && moved <= reach) {
-                if (s.sleep_energy <= energy_limit) ++s.idle_steps;
+                // Saturating, not wrapping to 0 (which would start a new
+                // window): a window of 2³² steps or more then never ends.
+                constexpr std::uint32_t kMost = std::numeric_limits<std::uint32_t>::max();
+                if (s.sleep_energy <= energy_limit && s.idle_steps < kMost) ++s.idle_steps;
             } else {
                 s.idle_steps = 1;  // a new window, from here
                 group_woken[root] = 1;
@@ -113,7 +122,7 @@ void RigidWorld::Impl::sleep(double h) {
         }
     }
     for (Slot& s : slots) {
-        if (s.body == nullptr || !dBodyIsEnabled(s.body) || s.idle_steps < needed) continue;
+        if (s.body == nullptr || !dBodyIsEnabled(s.body) || static_cast<double>(s.idle_steps) < needed) continue;
         dBodySetLinearVel(s.body, 0, 0, 0);
         dBodySetAngularVel(s.body, 0, 0, 0);
         dBodyDisable(s.body);

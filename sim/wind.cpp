@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -25,8 +26,14 @@ Vec3 gust_key(const Wind& w, std::int64_t k) {
 Vec3 wind_at(const Wind& w, double t) {
     if (w.gust_strength == 0.0) return w.velocity;
     const double u = t / w.gust_period;
-    const auto k = static_cast<std::int64_t>(std::floor(u));
-    const double s = u - static_cast<double>(k);
+    // The key before t, clamped to ±2^62 (NaN to the lower end) before it
+    // becomes an integer, so that no conversion overflows. Beyond 2^53
+    // periods (a gust period far below the step) a double has no fraction
+    // left and the gust holds still.
+    constexpr double kLastKey = 0x1p62;
+    const double key = u >= -kLastKey ? std::min(std::floor(u), kLastKey) : -kLastKey;
+    const auto k = static_cast<std::int64_t>(key);
+    const double s = std::clamp(u - key, 0.0, 1.0);
     const double ease = s * s * (3.0 - 2.0 * s);  // smoothstep: zero slope at both keys
     const Vec3 a = gust_key(w, k), b = gust_key(w, k + 1);
     return w.velocity + a + ease * (b - a);

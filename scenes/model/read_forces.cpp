@@ -69,7 +69,9 @@ void read_wind(SceneBuilder& b, const Section& f) {
     w.air_density = s.number("air_density", w.air_density, 0.0, 1e5, "kg/m³");
     w.drag_coefficient = s.number("drag_coefficient", w.drag_coefficient, 0.0, 100.0, "(C_d)");
     w.gust_strength = s.number("gust_strength", w.gust_strength, 0.0, 1e4, "m/s");
-    w.gust_period = s.positive("gust_period", w.gust_period, 1e6, "s");
+    // Gusts faster than a millisecond are noise no step resolves (and a
+    // period of 1e-300 s put t / period beyond any gust index).
+    w.gust_period = s.number("gust_period", w.gust_period, 1e-3, 1e6, "s");
     w.seed = s.seed("seed");
     w.radius = s.number("radius", w.radius, 0.0, 100.0, "m");
     w.particles = b.particle_list(s, "particles");

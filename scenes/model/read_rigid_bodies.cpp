@@ -97,7 +97,15 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
     rs.seed = s.seed("seed");
     rs.sleep = s.boolean("sleep", rs.sleep);
     rs.sleep_speed = s.positive("sleep_speed", rs.sleep_speed, kHuge, "m/s");
+    // A rest of more than 11.6 days before sleeping means never, which
+    // `sleep = false` says (1e300 s once overflowed the sleep counter and put
+    // every body to sleep at its first step): refused, naming that key.
     rs.sleep_time = s.positive("sleep_time", rs.sleep_time, kHuge, "s");
+    if (rs.sleep_time > kMaxSleepTime) {
+        s.fail("sleep_time", "must be > 0 and at most " + sim::format_value(kMaxSleepTime) +
+                                 ", in s (11.6 days; a longer rest means never: say sleep = false) (got " +
+                                 sim::format_value(rs.sleep_time) + ")");
+    }
     rs.self_collision = s.boolean("self_collision", rs.self_collision);
     rs.speculative_stops = s.boolean("speculative_stops", rs.speculative_stops);
     rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));

@@ -29,6 +29,7 @@ constexpr std::size_t kMaxParticles = 1'000'000;
 constexpr std::size_t kMaxSprings = 4'000'000;
 constexpr int kMaxCheckpoints = 16;
 constexpr int kMaxSubsteps = 10'000;
+constexpr double kMaxSleepTime = 1e6;  // s, [rigid] sleep_time: 11.6 days at rest (shipped scenes: 0.5)
 
 // How a pinned particle looks, whatever its body's colour.
 constexpr Color kPinnedColor{0.45f, 0.45f, 0.48f, 1};
@@ -104,6 +105,11 @@ void read_view(SceneBuilder& b, const Section& top);
 
 // [[ghosts]]: closed forms from the scene's own parameters (read_ghosts.cpp).
 void read_ghosts(SceneBuilder& b, const Section& top);
+
+// Last, once the scene is whole: work that grows faster than the file (Newton
+// gravity's pairs, times the integrator's passes and the substeps; trails,
+// particles times frames), refused with its estimate (work_limits.cpp).
+void refuse_work_too_large(SceneBuilder& b, const Section& top);
 
 // --- Shared by the rope, cloth and soft-body readers (particle_body.cpp) ----------------
 

@@ -67,6 +67,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     read_camera(b, top);
     read_view(b, top);
     read_ghosts(b, top);
+    refuse_work_too_large(b, top);
     // The physics core's own checks, as a backstop (they name the item, not the line).
     try {
         sim::validate(scene.model);

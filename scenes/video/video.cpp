@@ -30,6 +30,9 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+// The longest video, s simulated: an hour is 216,000 frames at 60 fps.
+constexpr double kMaxVideoSeconds = 3600.0;
+
 void validate(const VideoOptions& o) {
     const std::string ext = o.output.extension().string();
     if (ext != ".mp4" && ext != ".gif") {
@@ -43,8 +46,9 @@ void validate(const VideoOptions& o) {
     }
     if (o.fps < 1 || o.fps > 120)
         throw sim::InputError("video: --fps must be within 1 .. 120 (got " + std::to_string(o.fps) + ")");
-    if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > 3600.0) {
-        throw sim::InputError("video: --seconds must be within 0 .. 3600 (got " + sim::format_value(o.seconds) + ")");
+    if (!std::isfinite(o.seconds) || o.seconds < 0.0 || o.seconds > kMaxVideoSeconds) {
+        throw sim::InputError("video: --seconds must be within 0 .. " + sim::format_value(kMaxVideoSeconds) + " (got " +
+                              sim::format_value(o.seconds) + ")");
     }
     if (o.compare.size() > 6) throw sim::InputError("video: --compare takes at most 6 tiles");
     for (const std::string& name : o.compare) {
@@ -317,12 +321,21 @@ private:
 
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
     validate(options);
+    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
+    // The scene's own length is held to --seconds' limit too: a scene of
+    // 1e7 frames of 10 s asked for 1.2e10 video frames, more than an int
+    // holds, and came out as a video of one frame.
+    if (seconds > kMaxVideoSeconds) {
+        throw sim::InputError("video: " + scene.name + " runs " + sim::format_value(seconds) + " s (" +
+                              std::to_string(scene.frames) + " frames of " + sim::format_value(scene.step.dt) +
+                              " s); a video shows at most " + sim::format_value(kMaxVideoSeconds) +
+                              " s: give --seconds");
+    }
+    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
     const std::vector<std::unique_ptr<SceneDef>> defs = tile_scenes(scene, overrides, options);
     std::vector<std::unique_ptr<SceneRun>> runs;
     for (const auto& d : defs) runs.push_back(std::make_unique<SceneRun>(*d));
     const TileGrid grid = tile_grid(static_cast<int>(runs.size()), options);
-    const double seconds = options.seconds > 0.0 ? options.seconds : scene.frames * scene.step.dt;  // s simulated
-    const int frames = std::max(1, static_cast<int>(std::lround(seconds * options.fps)));
     const TileTexts texts(scene, options, grid, seconds);
 
     const auto context = render::create_context({});

@@ -12,7 +12,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -163,6 +165,50 @@ TEST(Collisions, TheGridFindsEveryOverlapAcrossCellFaces) {
     pairs.particle_particle = true;
     CollisionScratch scratch;
     EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1000u);
+}
+
+// Radii far below the particles' spread: cells of 2 r = 2e-20 m over 1 m
+// would be 5e19 along x, more than an int64 holds (the conversion was
+// undefined, then the grid asked for a vector of that many cells). The grid
+// coarsens in double instead, and the pair still collides as two spheres:
+// equal masses, so each moves half the overlap, to centres 2 r apart.
+TEST(Collisions, RadiiOf1e20MetreOverAMetreStillFindTheOverlap) {
+    const double r = 1e-20;  // m
+    Vec3Array x(3), v(3);
+    x.set(0, Vec3(0, 0, 0));
+    x.set(1, Vec3(1.5 * r, 0, 0));  // overlapping by 0.5 r
+    x.set(2, Vec3(1, 0, 0));        // a metre away: the grid spans 1 m
+    const Vec3Array x0 = x;
+    std::vector<double> radius(3, r), inv_mass(3, 1.0);
+    Collisions pairs;
+    pairs.particle_particle = true;
+    CollisionScratch scratch;
+    EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1u);
+    EXPECT_NEAR(x.get(0).x(), -0.25 * r, 1e-6 * r) << "m: half the 0.5 r overlap";
+    EXPECT_NEAR(x.get(1).x(), 1.75 * r, 1e-6 * r) << "m: the other half";
+    EXPECT_EQ(x.get(2), Vec3(1, 0, 0)) << "m: far away, untouched";
+    EXPECT_LE(scratch.cell_start.size(), 16u * 3u + 64u + 2u) << "cells: at most 16 a particle (+64)";
+}
+
+// A particle whose position is no longer finite (a blow-up the watchdog
+// names after this substep) is left out of the grid: an infinite extent
+// would make infinitely many cells (undefined conversions, then a vector of
+// 2^64 entries). The others still collide.
+TEST(Collisions, AParticleThatBlewUpIsLeftOutOfThePairGrid) {
+    for (const double bad : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+        Vec3Array x(3), v(3);
+        x.set(0, Vec3(0, 0, 0));
+        x.set(1, Vec3(0.15, 0, 0));
+        x.set(2, Vec3(bad, 0, 0));
+        const Vec3Array x0 = x;
+        std::vector<double> radius(3, 0.1), inv_mass(3, 1.0);
+        Collisions pairs;
+        pairs.particle_particle = true;
+        CollisionScratch scratch;
+        EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1u)
+            << "with a particle at x = " << bad;
+        EXPECT_NEAR(x.get(1).x() - x.get(0).x(), 0.2, 1e-12) << "m: pushed to 2 r apart";
+    }
 }
 
 // Cloth self-collision is particle collision among the cloth's own nodes:

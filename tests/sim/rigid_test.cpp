@@ -265,6 +265,23 @@ TEST(Rigid, ABodyAtRestSleepsAndABlowWakesIt) {
     EXPECT_GT(world.state(target).position.x() - rest.x(), 0.05) << "m: and it was pushed";
 }
 
+// A sleep_time no step counter reaches (1e300 s is 6e301 steps of 1/60 s):
+// the body never sleeps, as asked. The count was converted to a uint32,
+// undefined beyond 2^32 (here it came out 0), and a body dropped at rest fell
+// asleep at its first step, hanging in the air. It falls as ODE's symplectic
+// Euler says: y = y0 - g h² n (n + 1) / 2 after n steps.
+TEST(Rigid, ASleepTimeBeyondAnyStepCountNeverSleeps) {
+    RigidWorld world({.ground = false, .sleep_time = 1e300});
+    BodyDef box;
+    box.position = Vec3(0, 10, 0);
+    const BodyId id = world.add_body(box);
+    const double h = 1.0 / 60.0;
+    const int n = 60;
+    for (int i = 0; i < n; ++i) world.step(h);
+    EXPECT_TRUE(world.awake(id)) << "never asleep";
+    EXPECT_NEAR(world.state(id).position.y(), 10.0 - 9.81 * h * h * n * (n + 1) / 2.0, 1e-9) << "m: falling";
+}
+
 TEST(Rigid, ABodyRestsOnAStaticCollider) {
     RigidWorld world({.ground = false, .sleep = false});
     world.add_static(BoxCollider{Vec3(0, 1, 0), Vec3(1, 0.5, 1)});  // a table top at y = 1.5

@@ -130,6 +130,22 @@ TEST(Wind, GustsAreAPureSmoothFunctionOfTime) {
     for (double t : {-3.0, 0.0, 0.37, 12.0, 1e5}) EXPECT_EQ(wind_at(calm, t), calm.velocity) << "t = " << t << " s";
 }
 
+// A gust period far below any step (1e-300 s) puts t / period at 1e300,
+// beyond every integer: the key was converted to an int64 anyway (undefined;
+// here it came out -2^63, and the blend between keys went to infinity). The
+// key is clamped first: the gust holds at one key, finite, the same at any
+// later time. A gust is the mean wind plus one normal draw of standard
+// deviation gust_strength per component: within 6 of them (a 1e-9 event).
+TEST(Wind, AGustPeriodFarBelowTheStepHoldsOneFiniteGust) {
+    Wind w;
+    w.gust_strength = 2.0;  // m/s
+    w.gust_period = 1e-300;
+    const Vec3 early = wind_at(w, 1.0), late = wind_at(w, 2.0);
+    ASSERT_TRUE(early.allFinite()) << early.transpose();
+    EXPECT_EQ(early, late) << "held at one key";
+    EXPECT_LT((early - w.velocity).cwiseAbs().maxCoeff(), 6.0 * 2.0) << "m/s, one gust";
+}
+
 TEST(Wind, LocalOnlyWithoutTriangles) {
     Wind w;
     w.particles = {0, 2};

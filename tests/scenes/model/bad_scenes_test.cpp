@@ -1,6 +1,7 @@
 // The malformed scene corpus (tests/data/bad_scenes/): every file makes
 // `plausible run FILE --csv OUT` exit 2 with a message that names the file and
-// the line, says what was wrong, and writes nothing.
+// the line, says what was wrong, and writes nothing. And values at the edge of
+// what the loader accepts, which run as they say.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -81,6 +83,15 @@ constexpr BadScene kCorpus[] = {
     {"rigid_iterations_zero.toml", 7, "rigid.iterations must be within 1 .. 10000 (got 0)"},
     {"chain_link_too_short.toml", 7, "chains[0].link_length must be more than twice the radius (0.2 m)"},
     {"ghost_unknown_body.toml", 11, "ghosts[0].body names no body (got 'hamer')"},
+    {"rigid_sleep_time_huge.toml", 8,
+     "rigid.sleep_time must be > 0 and at most 1e+06, in s (11.6 days; a longer rest means never: say sleep = false) "
+     "(got 1e+300)"},
+    {"wind_gust_period_tiny.toml", 8, "forces.wind.gust_period must be within 0.001 .. 1e+06, in s (got 1e-300)"},
+    {"trail_frames_huge.toml", 9,
+     "view.trail_frames = 1000 behind 1000000 moving particles keeps 6.01e+08 trail points by frame 600"},
+    {"newton_gravity_huge_group.toml", 7,
+     "forces.newton_gravity on 1000000 particles is O(n²): n (n - 1) / 2 = 499999500000 pairs, evaluated 2 times a "
+     "frame"},
 };
 
 struct Result {
@@ -138,6 +149,46 @@ TEST(BadSceneCorpus, EveryFileOfTheCorpusIsListed) {
         EXPECT_TRUE(listed) << entry.path() << " has no expectation in kCorpus";
     }
     EXPECT_GE(files, 25u);
+}
+
+// Radii of 1e-20 m with particle collisions: the collision grid's cells of
+// 2 r over a metre were 5e19 a side, the conversion to an integer overflowed
+// and the run died with "cannot create std::vector larger than max_size()"
+// (exit 1). Now it runs, and the pair overlapping by half a radius is pushed
+// apart along the line of centres, half the overlap each: -0.25 r and 1.75 r.
+TEST(EdgeValues, RadiiOf1e20MetreCollideThroughTheCommand) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_tiny_radii_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "tiny.toml") << R"(description = "Radii of 1e-20 m, colliding."
+frames = 1
+[[particles]]
+position = [0, 1, 0]
+radius = 1e-20
+[[particles]]
+position = [1.5e-20, 1, 0]
+radius = 1e-20
+[[particles]]
+position = [1, 1, 0]
+radius = 1e-20
+[collisions]
+particles = true
+)";
+    const Result r = run("run '" + (dir / "tiny.toml").string() + "' --csv '" + (dir / "out.csv").string() + "'", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream csv(dir / "out.csv");
+    std::string line;
+    std::map<int, double> x;  // particle -> x at frame 1, m
+    while (std::getline(csv, line)) {
+        int frame = 0, id = 0;
+        double t = 0, px = 0;
+        if (std::sscanf(line.c_str(), "%d,%lf,particle,%d,%lf", &frame, &t, &id, &px) == 4 && frame == 1) x[id] = px;
+    }
+    ASSERT_EQ(x.size(), 3u);
+    EXPECT_NEAR(x[0], -0.25e-20, 1e-26) << "m";
+    EXPECT_NEAR(x[1], 1.75e-20, 1e-26) << "m";
+    EXPECT_EQ(x[2], 1.0) << "m: untouched";
+    fs::remove_all(dir);
 }
 
 TEST(SetOverrides, BadValuesNameTheOverride) {

@@ -212,6 +212,21 @@ TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
     scenes::VideoOptions avi = o;
     avi.output = dir_ / "bad.avi";
     refused(avi, "must end in .mp4 or .gif");
+    // Without --seconds the video shows the whole scene, held to the same
+    // hour: 1e7 frames of 10 s once made 1.2e10 video frames at 30 fps,
+    // more than an int holds, and a video of one frame.
+    scenes::SceneDef endless = scene;
+    endless.frames = 10'000'000;
+    endless.step.dt = 10.0;
+    try {
+        scenes::write_video(endless, {}, options("endless.mp4", 64, 36, 30, 0.0));
+        ADD_FAILURE() << "accepted a scene of 1e8 s without --seconds";
+    } catch (const sim::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("runs 1e+08 s (10000000 frames of 10 s); a video shows at most 3600 s: "
+                                             "give --seconds"),
+                  std::string::npos)
+            << e.what();
+    }
     EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
 }
 

@@ -1,0 +1,90 @@
+// Work that grows faster than the file (scenes/model/work_limits.cpp): Newton
+// gravity is refused where a frame would cost more than a second by the
+// loader's estimate, n (n - 1) / 2 pairs x the passes a frame at 10 ns a pair,
+// plus backward Euler's dense (3n)³/3 flops a substep at 4 ns; trails where
+// they would hold more than 5e7 points. The boundaries below are worked out
+// by hand from those rules.
+#include "scenes/model/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace scenes {
+namespace {
+
+// A group of n particles under Newton gravity, stepped by `step` (a [step] table's keys).
+std::string newton_group(int n, const std::string& step = "") {
+    return "description = \"d\"\nframes = 10\n[step]\n" + step + "\n[[groups]]\ncount = " + std::to_string(n) +
+           "\nspacing = [0.01, 0, 0]\n[forces.newton_gravity]\nG = 1e-6\n";
+}
+
+// The refusal's message, or "" when the scene loads.
+std::string refusal(const std::string& text) {
+    try {
+        parse_scene(text, "galaxy.toml");
+        return "";
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+}
+
+TEST(WorkLimits, NewtonGravityStopsWhereAFrameWouldPassASecond) {
+    // Symplectic Euler, 1 substep: 2 passes a frame (the force, the energy),
+    // n (n - 1) x 10 ns <= 1 s up to n = 10000.
+    EXPECT_EQ(refusal(newton_group(10'000)), "");
+    const std::string big = refusal(newton_group(10'001));
+    EXPECT_NE(big.find("galaxy.toml:8:1: forces.newton_gravity on 10001 particles is O(n²): n (n - 1) / 2 = "
+                       "50005000 pairs, evaluated 2 times a frame"),
+              std::string::npos)
+        << big;
+    EXPECT_NE(big.find("about 1 s a frame; at most 1 s a frame"), std::string::npos) << big;
+    EXPECT_NE(big.find("these settings allow at most 10000 particles"), std::string::npos) << big;
+    // RK4 with 4 substeps: 4 x 4 + 1 = 17 passes, n (n - 1) <= 2 / (17 x 1e-8)
+    // = 11764705.9: n = 3430 (3430 x 3429 = 11761470), not 3431 (11768330).
+    EXPECT_EQ(refusal(newton_group(3'430, "integrator = \"rk4\"\nsubsteps = 4")), "");
+    const std::string rk4 = refusal(newton_group(3'431, "integrator = \"rk4\"\nsubsteps = 4"));
+    EXPECT_NE(rk4.find("17 times a frame (rk4: 4 a step x 4 substeps, 1 for the energy)"), std::string::npos) << rk4;
+    EXPECT_NE(rk4.find("at most 3430 particles"), std::string::npos) << rk4;
+}
+
+TEST(WorkLimits, BackwardEulerCountsItsDenseFactorization) {
+    // 9 n³ x 4 ns + n (n - 1) x 10 ns <= 1 s: n = 302 (0.9925 s), not 303 (1.0024 s).
+    EXPECT_EQ(refusal(newton_group(302, "integrator = \"backward_euler\"")), "");
+    const std::string be = refusal(newton_group(303, "integrator = \"backward_euler\""));
+    EXPECT_NE(be.find("backward_euler factors a dense 909 x 909 system each substep"), std::string::npos) << be;
+    EXPECT_NE(be.find("at most 302 particles"), std::string::npos) << be;
+}
+
+TEST(WorkLimits, TheWatchdogsEnergyRuleAddsAPassEverySubstep) {
+    // energy_growth on: 1 + 1 + 1 = 3 passes, n (n - 1) <= 2 / 3e-8: n = 8165, not 8166.
+    const std::string watched = "\n[watchdog]\nenergy_growth = 2\n";
+    EXPECT_EQ(refusal(newton_group(8'165) + watched), "");
+    EXPECT_NE(refusal(newton_group(8'166) + watched).find("3 times a frame"), std::string::npos);
+}
+
+// Trails: moving particles x (min(trail_frames, frames) + 1) <= 5e7 points.
+TEST(WorkLimits, TrailsStopAtFiftyMillionPoints) {
+    auto trails = [](int frames, int trail_frames, const std::string& more = "") {
+        return "description = \"d\"\nframes = " + std::to_string(frames) +
+               "\n[[groups]]\ncount = 50000\nspacing = [0.01, 0, 0]\n" + more +
+               "[view]\ntrail_frames = " + std::to_string(trail_frames) + "\n";
+    };
+    EXPECT_EQ(refusal(trails(2000, 999)), "") << "50000 x 1000 = 5e7";
+    const std::string big = refusal(trails(2000, 1000));
+    EXPECT_NE(big.find("galaxy.toml:7:16: view.trail_frames = 1000 behind 50000 moving particles keeps 50050000 "
+                       "trail points by frame 2000"),
+              std::string::npos)
+        << big;
+    EXPECT_EQ(refusal(trails(999, 5000)), "") << "the run ends first: 50000 x 1000";
+    // Pinned particles keep no trail; an emitter's particles, parked until born, do.
+    EXPECT_NE(refusal(trails(2000, 1000, "[[particles]]\nposition = [0, 1, 0]\npinned = true\n"))
+                  .find("behind 50000 moving particles"),
+              std::string::npos)
+        << "the pinned one is not counted";
+    EXPECT_NE(refusal(trails(2000, 999, "[[emitters]]\ncount = 10\n")).find("50010 moving particles"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace scenes
