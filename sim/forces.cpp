@@ -64,13 +64,13 @@ ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Spa
 
 namespace {
 
+constexpr std::size_t kFew = 4;  // particles: fewer go one at a time, at the pinned width
+
 // The field loop, compiled once per case so that neither the square root of
 // quadratic drag nor the inverse-mass multiply costs anything when unused.
 // Plain pointers and scalars only (a struct passed in makes GCC reload its
 // members every iteration and give up vectorising); __restrict because the
 // output never overlaps the velocity or mass arrays.
-constexpr std::size_t kFew = 4;  // particles: fewer go one at a time, at the pinned width
-
 template <bool kQuadratic, bool kToAcceleration>
 void field_loop(const double* __restrict vx, const double* __restrict vy, const double* __restrict vz,
                 const double* __restrict m, const double* __restrict inv_m, double* __restrict ox,
@@ -204,12 +204,8 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     // A pinned particle's acceleration is its force times 0: the spring pass
     // may leave its sum out (see accumulate's skip_pinned).
     add_forces(in, a, true);
-    if (wide_ && a.n > kFew) {
-        run_at_width(
-            true, [](auto... p) { scale_by_inverse_mass(p...); }, a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
-    } else {
-        scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
-    }
+    run_at_width(
+        wide_ && a.n > kFew, [](auto... p) { scale_by_inverse_mass(p...); }, a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }
 
 void ParticleForces::force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,

@@ -216,6 +216,15 @@ void judge_exploded(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip
         "side.png", render::side_by_side(expected, strip.image, c.image->diff, render::Font::default_font()));
 }
 
+// "physics changed at checkpoint i (frame f): state hash differs", for the
+// first checkpoint whose hash differs.
+std::string physics_changed(const SceneCheck& c, const Filmstrip& strip) {
+    const int i = c.first_hash_mismatch;
+    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+    return "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
+           "): state hash differs";
+}
+
 // No golden yet: written with --update missing or all, else reported.
 void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
                    const render::Fingerprint& fingerprint, const CheckOptions& options, const fs::path& golden_dir,
@@ -244,10 +253,7 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
         c.message = c.image->pass ? "image " + c.image->summary + ", state hashes identical"
                                   : "rendering changed, physics identical: " + c.image->summary;
     } else {
-        const int i = c.first_hash_mismatch;
-        const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
-        c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
-                    "): state hash differs; image " + c.image->summary;
+        c.message = physics_changed(c, strip) + "; image " + c.image->summary;
     }
     if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
         c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
@@ -277,11 +283,8 @@ void judge_physics(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
         c.message = "state hashes identical (physics only: images not compared)";
         return;
     }
-    const int i = c.first_hash_mismatch;
-    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
     c.status = SceneCheck::Status::fail;
-    c.message = "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
-                "): state hash differs (physics only: images not compared)";
+    c.message = physics_changed(c, strip) + " (physics only: images not compared)";
 }
 
 // One scene: loaded, its filmstrip rendered, judged. Bad input (the scene
