@@ -21,6 +21,27 @@ std::string format_time(double t) {
     return text;
 }
 
+// The instruction set this build's physics runs on. State hashes are the same
+// bits on every x86-64 CPU (docs/design.md rule 7) but not across
+// architectures: another architecture's libm and ODE build round differently
+// (Debian's arm64 libode fuses multiply-adds), so a golden records where it
+// was made and hashes are compared only on the same architecture.
+std::string build_architecture() {
+#if defined(__x86_64__)
+    return "x86_64";
+#elif defined(__aarch64__)
+    return "aarch64";
+#elif defined(__i386__)
+    return "i386";
+#elif defined(__riscv) && __riscv_xlen == 64
+    return "riscv64";
+#elif defined(__powerpc64__)
+    return "ppc64";
+#else
+    return "unknown";
+#endif
+}
+
 json fingerprint_json(const render::Fingerprint& f) {
     return json{{"backend", f.backend},  {"vendor", f.vendor},     {"renderer", f.renderer},
                 {"version", f.version},  {"cpu_simd", f.cpu_simd}, {"gl_threads", f.gl_threads},
@@ -69,6 +90,7 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
                                                              {"large_share", defaults.large_share}};
     json golden = {{"scene", scene.name},
                    {"integrator", std::string(sim::integrator_info(scene.step.integrator).name)},
+                   {"arch", build_architecture()},
                    {"dt", scene.step.dt},
                    {"substeps", scene.step.substeps},
                    {"tile", {strip.image.width > 0 ? 320 : 0, 240}},
@@ -225,6 +247,13 @@ std::string physics_changed(const SceneCheck& c, const Filmstrip& strip) {
            "): state hash differs";
 }
 
+// Why the state hashes were not judged: the golden was made on another
+// architecture (build_architecture), so only the image can be.
+std::string not_comparable(const SceneCheck& c) {
+    return "state hashes not compared: the golden was made on " + c.arch_expected + " and this build runs on " +
+           c.arch_actual + ", and hashes are not comparable across architectures (judged by the image alone)";
+}
+
 // No golden yet: written with --update missing or all, else reported.
 void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
                    const render::Fingerprint& fingerprint, const CheckOptions& options, const fs::path& golden_dir,
@@ -249,7 +278,9 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
     c.image = render::compare_golden(strip.image, expected, thresholds_from(golden.previous, golden.json_file));
     const bool physics_same = c.first_hash_mismatch < 0;
     const bool pass = c.image->pass && physics_same;
-    if (physics_same) {
+    if (!c.hashes_comparable()) {
+        c.message = (c.image->pass ? "image " : "image changed: ") + c.image->summary + "; " + not_comparable(c);
+    } else if (physics_same) {
         c.message = c.image->pass ? "image " + c.image->summary + ", state hashes identical"
                                   : "rendering changed, physics identical: " + c.image->summary;
     } else {
@@ -278,6 +309,12 @@ void judge_physics(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
         c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
         return;
     }
+    if (!c.hashes_comparable()) {
+        c.status = SceneCheck::Status::error;
+        c.message = "a physics-only check cannot judge this scene: " + not_comparable(c) +
+                    "; run the full check, which compares the images";
+        return;
+    }
     if (c.first_hash_mismatch < 0) {
         c.status = SceneCheck::Status::pass;
         c.message = "state hashes identical (physics only: images not compared)";
@@ -297,13 +334,15 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
     SceneCheck c;
     c.scene = name;
     c.fingerprint_actual = fingerprint != nullptr ? fingerprint->summary() : "none (physics only)";
+    c.arch_actual = build_architecture();
     const Evidence evidence{report_dir, c};
     try {
         const SceneDef scene = load_scene(resolve_scene(name), overrides);
         c.scene = scene.name;
         const Filmstrip strip = run_filmstrip(scene, renderer, {});
         const Golden golden = read_golden(golden_dir, scene.name);
-        compare_hashes(c, strip, golden.previous);
+        c.arch_expected = golden.previous.value("arch", "");
+        if (c.hashes_comparable()) compare_hashes(c, strip, golden.previous);
         if (golden.previous.contains("fingerprint")) {
             c.fingerprint_expected = golden.previous["fingerprint"].value("summary", "");
         }

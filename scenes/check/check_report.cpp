@@ -52,6 +52,9 @@ nlohmann::json to_json(const SceneCheck& c) {
         {"seconds", c.seconds},
         {"fingerprint_expected", c.fingerprint_expected},
         {"fingerprint_actual", c.fingerprint_actual},
+        {"arch_expected", c.arch_expected},
+        {"arch_actual", c.arch_actual},
+        {"hashes_compared", c.hashes_comparable()},
         {"images",
          {{"expected", c.expected_png}, {"actual", c.actual_png}, {"diff", c.diff_png}, {"side", c.side_png}}}};
     nlohmann::json hashes = nlohmann::json::array();

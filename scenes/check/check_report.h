@@ -27,6 +27,10 @@ struct SceneCheck {
     int first_hash_mismatch = -1;                              // checkpoint index, -1: none
     std::string expected_png, actual_png, diff_png, side_png;  // relative to the report folder; empty: not written
     std::string fingerprint_expected, fingerprint_actual;      // renderer fingerprints, one line each
+    std::string arch_expected, arch_actual;                    // the golden's and this build's architecture
+    // Hashes are judged only on the golden's architecture; a golden without
+    // "arch" (written before it was recorded) is taken as comparable.
+    bool hashes_comparable() const { return arch_expected.empty() || arch_expected == arch_actual; }
     double seconds = 0;                                        // s, wall time of the scene's check
 };
 

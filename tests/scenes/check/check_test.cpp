@@ -189,6 +189,36 @@ TEST(CheckPhysics, JudgesTheStateHashesAloneAndWritesNoGolden) {
     EXPECT_THROW(check_physics({"ballistic"}, {}, options), sim::InputError);
 }
 
+// A golden made on another architecture: its hashes cannot be the same bits
+// (another libm, an ODE built with fused multiply-adds), so check judges by
+// the image alone and says so, instead of crying "physics changed"; a
+// physics-only check, which has nothing else to judge by, refuses.
+TEST_F(CheckTest, AGoldenFromAnotherArchitectureIsJudgedByItsImageAlone) {
+    const fs::path report = results("other-arch");
+    const fs::path golden = golden_copy(report / "golden", {"ballistic"});
+    json j = read_json(golden / "ballistic.json");
+    ASSERT_FALSE(j.value("arch", "").empty()) << "goldens record the architecture they were made on";
+    j["arch"] = "aarch64-test";
+    j["checkpoints"][1]["state_hash"] = "0123456789abcdef";  // a hash the other machine would have made
+    write_json(golden / "ballistic.json", j);
+    CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
+
+    auto r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    ASSERT_EQ(r.size(), 1u);
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+    EXPECT_NE(r[0].message.find("not comparable across architectures"), std::string::npos) << r[0].message;
+    EXPECT_NE(r[0].message.find("aarch64-test"), std::string::npos) << r[0].message;
+    EXPECT_EQ(read_json(report / "report.json")["scenes"][0]["hashes_compared"], false);
+
+    tamper(golden / "ballistic.png");  // the image still judges
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+
+    r = check_physics({"ballistic"}, {}, options);
+    EXPECT_EQ(r[0].status, SceneCheck::Status::error) << r[0].message;
+    EXPECT_NE(r[0].message.find("run the full check"), std::string::npos) << r[0].message;
+}
+
 TEST_F(CheckTest, UpdateChangedRewritesOnlyTheFailingScenes) {
     const fs::path report = results("update-changed");
     const fs::path golden = golden_copy(report / "golden", {"ballistic", "pendulum"});
