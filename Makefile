@@ -7,7 +7,7 @@ PRESET := $(if $(filter true 1,$(CI)),ci,release)
 JOBS   := $(shell nproc 2>/dev/null || echo 2)
 RESULTS := build/test-results
 
-.PHONY: all deps configure build test demo bench test-sanitize clean
+.PHONY: all deps configure build test demo bench test-sanitize check-clang clean
 
 all: build
 
@@ -56,5 +56,14 @@ test-sanitize: deps
 	cmake --build --preset sanitize -j $(JOBS)
 	ctest --preset sanitize -j $(JOBS)
 
+# The second compiler (issue 19): the whole project built with clang in
+# build-clang/ (warnings as errors under CI=true, the same determinism flags),
+# then every golden check, state hashes and images, against the goldens that
+# gcc's build made. .ci/run runs it once, after make test.
+check-clang: deps
+	cmake --preset clang >/dev/null
+	cmake --build --preset clang -j $(JOBS)
+	build-clang/plausible check --report build-clang/check
+
 clean:
-	rm -rf build build-sanitize
+	rm -rf build build-sanitize build-clang
