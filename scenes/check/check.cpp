@@ -104,7 +104,7 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
 
 }  // namespace
 
-fs::path default_golden_dir() { return fs::path(PLAUSIBLE_SOURCE_DIR) / "golden"; }
+fs::path default_golden_dir() { return data_dir() / "golden"; }
 
 namespace {
 
@@ -264,7 +264,7 @@ void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
         c.message = "golden written: " + golden.png.string();
     } else {
         c.status = SceneCheck::Status::missing;
-        c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
+        c.message = "no golden " + golden.png.string() + ": run `plausible check " + scene.name + " --update missing`";
         c.actual_png = evidence.keep("actual.png", strip.image);
     }
 }
@@ -306,7 +306,7 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
 void judge_physics(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden) {
     if (!golden.present) {
         c.status = SceneCheck::Status::missing;
-        c.message = "no golden: run `plausible check " + scene.name + " --update missing`";
+        c.message = "no golden " + golden.png.string() + ": run `plausible check " + scene.name + " --update missing`";
         return;
     }
     if (!c.hashes_comparable()) {

@@ -37,10 +37,12 @@ enum class UpdateMode { none, missing, changed, all };
 
 struct CheckOptions {
     UpdateMode update = UpdateMode::none;
-    std::filesystem::path golden_dir;  // golden/ of the source tree unless set
+    std::filesystem::path golden_dir;  // default_golden_dir() unless set (check --golden)
     std::filesystem::path report_dir;  // out/check unless set
 };
 
+// The shipped goldens: data_dir()/golden (the source tree's golden/, or the
+// installed share/plausible/golden).
 std::filesystem::path default_golden_dir();
 
 // Checks each scene (catalogue names or .toml paths), writes the report, and

@@ -18,6 +18,7 @@ struct CheckArgs {
     SceneOptions options;  // --set and the step shorthands, applied to every scene
     std::string update = "none";
     std::string report = "out/check";
+    std::string golden;  // empty: the shipped goldens (default_golden_dir)
     std::string backend = "osmesa";
     bool physics_only = false;
 };
@@ -39,6 +40,14 @@ int check(const CheckArgs& a) {
             "--update with --set would bless a scene that is not the one in its file: drop one of them");
     }
     o.report_dir = a.report;
+    if (!a.golden.empty()) {
+        // A folder that is not there holds no goldens: say so once, not "no
+        // golden" per scene. --update creates it.
+        if (o.update == UpdateMode::none && !std::filesystem::is_directory(a.golden)) {
+            throw sim::InputError("--golden " + a.golden + ": no such folder (--update missing writes goldens there)");
+        }
+        o.golden_dir = a.golden;
+    }
     const std::vector<std::string> names = a.scenes.empty() ? catalog() : a.scenes;
     std::vector<SceneCheck> results;
     if (a.physics_only) {
@@ -69,6 +78,9 @@ Command add_check(CLI::App& app) {
     cmd->add_option("scenes", args->scenes, "Scenes to check (default: all)");
     args->options.add_to(cmd);
     cmd->add_option("--update", args->update, "Write goldens: none, missing, changed or all")->capture_default_str();
+    cmd->add_option("--golden", args->golden,
+                    "Folder of goldens to compare with, and to write with --update (your own scenes' goldens "
+                    "outside the project); default: the shipped goldens");
     cmd->add_option("--report", args->report, "Folder for the report (index.html, report.json, images)")
         ->capture_default_str();
     cmd->add_option("--backend", args->backend, "osmesa or egl")->capture_default_str();

@@ -1,5 +1,6 @@
 // The shipped scenes: the ordered catalogue (scenes/catalog.txt), where the
-// files live, and resolve_scene, which turns a name or a path into a file.
+// files live (data_dir: the source tree or the installed share/plausible),
+// and resolve_scene, which turns a name or a path into a file.
 // Its own file because it reads the catalogue, not a scene.
 #include "scenes/model/scene.h"
 #include "scenes/model/toml_section.h"
@@ -10,10 +11,46 @@
 
 namespace scenes {
 
-std::filesystem::path scenes_dir() {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Whether `path` lies inside `dir` (both absolute).
+bool is_within(const fs::path& path, const fs::path& dir) {
+    const fs::path rel = path.lexically_relative(dir);
+    return !rel.empty() && *rel.begin() != "..";
+}
+
+}  // namespace
+
+// One decision, by where the running executable is (/proc/self/exe, links
+// resolved): inside the build tree it was built in, the source tree it was
+// built from (so that an edited scene or a re-blessed golden is seen without
+// installing); anywhere else, the installed layout beside it
+// (<prefix>/bin/plausible -> <prefix>/share/plausible). An installed or
+// copied command never falls back to the source tree: it may be gone, or a
+// different version.
+fs::path data_dir() {
+    std::error_code error;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+    if (error) throw SceneError("cannot tell where this executable is (/proc/self/exe: " + error.message() + ")");
+    const bool in_build_tree = is_within(exe, fs::weakly_canonical(PLAUSIBLE_BINARY_DIR, error));
+    const fs::path dir = in_build_tree ? fs::path(PLAUSIBLE_SOURCE_DIR)
+                                       : (exe.parent_path() / PLAUSIBLE_DATA_FROM_BIN).lexically_normal();
+    if (!fs::exists(dir / "scenes" / "catalog.txt")) {
+        throw SceneError("the shipped scenes and goldens are not where " + exe.string() + " looks for them: no " +
+                         (dir / "scenes" / "catalog.txt").string() +
+                         (in_build_tree ? " (the source tree this build was made from)"
+                                        : " (install with `cmake --install BUILD --prefix PREFIX`, which puts them "
+                                          "there)") +
+                         "; PLAUSIBLE_SCENES_DIR=DIR reads scenes from DIR instead, check --golden DIR goldens");
+    }
+    return dir;
+}
+
+fs::path scenes_dir() {
     const char* env = std::getenv("PLAUSIBLE_SCENES_DIR");
-    return env != nullptr && *env != '\0' ? std::filesystem::path(env)
-                                          : std::filesystem::path(PLAUSIBLE_SOURCE_DIR) / "scenes";
+    return env != nullptr && *env != '\0' ? fs::path(env) : data_dir() / "scenes";
 }
 
 std::vector<std::string> catalog() {

@@ -144,8 +144,13 @@ struct Parameter {
 };
 std::vector<Parameter> scene_parameters(const SceneDef& scene, const std::vector<Override>& overrides = {});
 
+// Where the shipped scenes/ and golden/ are: the source tree for a command
+// run from its build tree, <prefix>/share/plausible for an installed one
+// (docs/design.md, "Installed"). Throws SceneError naming the path when
+// they are not there.
+std::filesystem::path data_dir();
 // Shipped scenes: the ordered catalogue (scenes/catalog.txt) and where their
-// files live ($PLAUSIBLE_SCENES_DIR, else the source tree's scenes/).
+// files live ($PLAUSIBLE_SCENES_DIR, else data_dir()/scenes).
 std::filesystem::path scenes_dir();
 std::vector<std::string> catalog();
 // A catalogue name or the path of a .toml file. Throws SceneError naming the

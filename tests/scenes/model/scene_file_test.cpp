@@ -96,6 +96,19 @@ TEST(SceneFile, ErrorsNameFileLineAndColumn) {
     }
 }
 
+// toml++ 3.3 asks "is this non-ASCII whitespace?" of the first character
+// after a line-ending backslash, and for code points in U+00A1..U+0499 (and
+// three other ranges) that are not whitespace its answer is undefined
+// behaviour (upstream issue #190; docs/design.md, "toml++"). Debian's
+// library answers "no": the characters are kept, as TOML says.
+TEST(SceneFile, NonAsciiAfterALineEndingBackslashIsKept) {
+    const SceneDef s = parse_scene(
+        "description = \"\"\"Kept: \\\n  \xc2\xa7 and \\\n\t\xc3\xa9 and \\\n\xd0\xb6 too.\"\"\"\n"
+        "[[particles]]\nposition = [0, 0, 0]\n",
+        "unicode.toml");
+    EXPECT_EQ(s.description, "Kept: \xc2\xa7 and \xc3\xa9 and \xd0\xb6 too.") << "U+00A7, U+00E9, U+0436";
+}
+
 TEST(SceneFile, AHeavyBodyOnALightOneWarnsForTheIterativeSolverOnly) {
     const std::string chain =
         "description = \"x\"\n"
