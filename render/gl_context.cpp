@@ -16,7 +16,7 @@ namespace render {
 namespace {
 
 // PLAUSIBLE_HAVE_OSMESA: set by render/CMakeLists.txt when pkg-config found
-// osmesa (Debian 12 has it; Mesa 25.1 and later, Debian 13 and sid, do not).
+// osmesa (Debian 12 and 13 have it; Mesa 25.1 removed it, so sid has not).
 #ifdef PLAUSIBLE_HAVE_OSMESA
 constexpr bool kOsmesaBuilt = true;
 #else

@@ -7,7 +7,7 @@
 #
 # A line of the list is `PACKAGE` or `PACKAGE optional`. A required package the
 # archive does not have is an error (exit 1, naming it); an optional one is
-# skipped with a note: libosmesa6-dev is in Debian 12 but not in 13 or sid
+# skipped with a note: libosmesa6-dev is in Debian 12 and 13 but not in sid
 # (Mesa 25.1 removed OSMesa), and the build then uses EGL.
 set -eu
 
