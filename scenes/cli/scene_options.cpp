@@ -59,9 +59,12 @@ render::Backend parse_backend(const std::string& text) {
 
 void add_backend_option(CLI::App* app, std::string* backend) {
     *backend = std::string(render::backend_name(render::default_backend()));
-    std::string help = "Off-screen GL backend; this build has:";
+    std::string help = "Off-screen GL backend; this build has: ";
+    const char* separator = "";
     for (const render::BackendInfo& info : render::backends()) {
-        if (info.offscreen && info.built) help += " " + std::string(info.name) + " (" + std::string(info.about) + ")";
+        if (!info.offscreen || !info.built) continue;
+        help += separator + std::string(info.name) + " (" + std::string(info.about) + ")";
+        separator = ", ";
     }
     app->add_option("--backend", *backend, help)->capture_default_str();
 }

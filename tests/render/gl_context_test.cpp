@@ -14,7 +14,7 @@ namespace {
 bool osmesa_built() { return backend_info(Backend::osmesa).built; }
 
 constexpr const char* kNoOsmesa =
-    "this build has no OSMesa (pkg-config found no osmesa when it was configured: Mesa 25.1 removed it)";
+    "this build has no OSMesa (not found when it was configured, or -DPLAUSIBLE_OSMESA=OFF; Mesa 25.1 removed it)";
 
 TEST(GlContext, BackendNamesRoundTrip) {
     for (const BackendInfo& info : backends()) {
