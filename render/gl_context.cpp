@@ -13,23 +13,59 @@
 
 namespace render {
 
-std::string_view backend_name(Backend backend) {
-    switch (backend) {
-        case Backend::osmesa:
-            return "osmesa";
-        case Backend::egl:
-            return "egl";
-        case Backend::glfw:
-            return "glfw";
+namespace {
+
+// PLAUSIBLE_HAVE_OSMESA: set by render/CMakeLists.txt when pkg-config found
+// osmesa (Debian 12 and 13 have it; Mesa 25.1 removed it, so sid has not).
+#ifdef PLAUSIBLE_HAVE_OSMESA
+constexpr bool kOsmesaBuilt = true;
+#else
+constexpr bool kOsmesaBuilt = false;
+#endif
+
+// OSMesa first: where it is built it stays the default, since the goldens
+// were made with it; EGL gives the same llvmpipe frames where it is not.
+constexpr BackendInfo kBackends[] = {
+    {Backend::osmesa, "osmesa", true, kOsmesaBuilt, "Mesa's OSMesa, llvmpipe"},
+    {Backend::egl, "egl", true, true, "EGL surfaceless or device platform, llvmpipe"},
+    {Backend::glfw, "glfw", false, true, "a window, for plausible view"},
+};
+
+}  // namespace
+
+std::span<const BackendInfo> backends() { return kBackends; }
+
+const BackendInfo& backend_info(Backend backend) {
+    for (const BackendInfo& info : kBackends) {
+        if (info.backend == backend) return info;
     }
-    return "?";
+    throw RenderError(ErrorKind::bad_input, "unknown backend");
 }
 
+std::string_view backend_name(Backend backend) { return backend_info(backend).name; }
+
 std::optional<Backend> backend_from_name(std::string_view name) {
-    for (Backend b : {Backend::osmesa, Backend::egl, Backend::glfw}) {
-        if (backend_name(b) == name) return b;
+    for (const BackendInfo& info : kBackends) {
+        if (info.name == name) return info.backend;
     }
     return std::nullopt;
+}
+
+Backend default_backend() {
+    for (const BackendInfo& info : kBackends) {
+        if (info.offscreen && info.built) return info.backend;
+    }
+    return Backend::egl;  // unreachable: EGL is always built
+}
+
+std::string offscreen_backend_names() {
+    std::string names;
+    for (const BackendInfo& info : kBackends) {
+        if (!info.offscreen || !info.built) continue;
+        if (!names.empty()) names += ", ";
+        names += info.name;
+    }
+    return names;
 }
 
 std::string Fingerprint::summary() const {
@@ -114,10 +150,21 @@ void prepare_mesa_environment() {
 }  // namespace detail
 
 std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
+    const BackendInfo& info = backend_info(options.backend);
+    if (!info.built) {
+        throw RenderError(ErrorKind::unavailable, std::string(info.name) +
+                                                      ": not in this build (its library was not found when it was "
+                                                      "configured); this build has: " +
+                                                      offscreen_backend_names());
+    }
     detail::prepare_mesa_environment();
     switch (options.backend) {
         case Backend::osmesa:
+#ifdef PLAUSIBLE_HAVE_OSMESA
             return detail::create_osmesa_context();
+#else
+            break;  // refused above: the table says it is not built
+#endif
         case Backend::egl:
             return detail::create_egl_context();
         case Backend::glfw:

@@ -1,8 +1,13 @@
 // One small GL-context interface, three implementations (STYLE.md habit 8):
-//   osmesa  off-screen through Mesa's OSMesa (the default; no display needed)
-//   egl     off-screen through EGL's surfaceless platform (Mesa 25.1 removed
-//           OSMesa: this is the way forward, and it must give the same frames)
+//   osmesa  off-screen through Mesa's OSMesa; optional at build time (Mesa
+//           25.1 removed it), the default where the build has it
+//   egl     off-screen through EGL's surfaceless platform (or the device
+//           platform); the default where the build has no OSMesa, and it
+//           gives the same llvmpipe frames
 //   glfw    a window, for `plausible view`; fails cleanly without a display
+// backends() is the table of them: the CLI's --backend choices, its help and
+// its errors all read it, so a new backend is one row there and one case in
+// create_context().
 // Each one creates a GL 3.3 core context and loads its own glad function table
 // through the backend's GetProcAddress. The renderer draws into its own
 // framebuffer objects, so the three differ only in how the context is made and
@@ -13,6 +18,7 @@
 
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -23,8 +29,26 @@ namespace render {
 
 enum class Backend { osmesa, egl, glfw };
 
+struct BackendInfo {
+    Backend backend;
+    std::string_view name;   // as --backend and the fingerprint spell it
+    bool offscreen = false;  // draws without a display (the CLI's --backend choices)
+    bool built = false;      // compiled into this build (OSMesa is optional)
+    std::string_view about;  // one line for --help and error messages
+};
+
+// Every backend this program knows, built here or not, in order of preference
+// for the default.
+std::span<const BackendInfo> backends();
+const BackendInfo& backend_info(Backend backend);
 std::string_view backend_name(Backend backend);
 std::optional<Backend> backend_from_name(std::string_view name);
+// The off-screen backend used when none is asked for: the first built one of
+// the table, OSMesa where the build has it (the goldens were made with it),
+// else EGL. The one place that decides it.
+Backend default_backend();
+// The built off-screen backends' names, comma-separated ("osmesa, egl").
+std::string offscreen_backend_names();
 
 // What made the pixels: golden files store it, and a golden check compares it
 // before blaming the simulation for a different picture.
@@ -39,7 +63,7 @@ struct Fingerprint {
 };
 
 struct ContextOptions {
-    Backend backend = Backend::osmesa;
+    Backend backend = default_backend();
     // Window backend only:
     int window_width = 1280;  // px
     int window_height = 720;  // px
@@ -80,7 +104,8 @@ private:
 
 // Creates and makes current a context of the requested backend. Throws
 // RenderError: no_display for a window without a display, unavailable when the
-// backend's library cannot make a 3.3 core context here.
+// backend is not in this build or its library cannot make a 3.3 core context
+// here.
 std::unique_ptr<GlContext> create_context(const ContextOptions& options = {});
 
 }  // namespace render

@@ -18,8 +18,8 @@ struct CheckArgs {
     SceneOptions options;  // --set and the step shorthands, applied to every scene
     std::string update = "none";
     std::string report = "out/check";
-    std::string golden;  // empty: the shipped goldens (default_golden_dir)
-    std::string backend = "osmesa";
+    std::string golden;   // empty: the shipped goldens (default_golden_dir)
+    std::string backend;  // set by add_backend_option: render::default_backend()
     bool physics_only = false;
 };
 
@@ -83,7 +83,7 @@ Command add_check(CLI::App& app) {
                     "outside the project); default: the shipped goldens");
     cmd->add_option("--report", args->report, "Folder for the report (index.html, report.json, images)")
         ->capture_default_str();
-    cmd->add_option("--backend", args->backend, "osmesa or egl")->capture_default_str();
+    add_backend_option(cmd, &args->backend);
     cmd->add_flag("--physics-only", args->physics_only,
                   "Compare state hashes only: nothing rendered, no GL (fast; e.g. under an emulated CPU)");
     return {cmd, [args] { return check(*args); }};

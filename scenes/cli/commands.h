@@ -56,7 +56,11 @@ struct SceneOptions {
 
 // "WIDTHxHEIGHT" within 16x16 .. 8192x8192 px.
 std::pair<int, int> parse_size(const std::string& text);
-// osmesa or egl (a window is not an off-screen backend).
+// An off-screen backend this build has (render::backends(): osmesa where the
+// build found OSMesa, egl always; a window is not an off-screen backend).
 render::Backend parse_backend(const std::string& text);
+// --backend, set to render::default_backend(), its help listing the backends
+// this build has.
+void add_backend_option(CLI::App* app, std::string* backend);
 
 }  // namespace scenes::cli

@@ -23,7 +23,7 @@ struct RenderArgs {
     std::string frames;  // "0,30,60"; empty: the scene's checkpoints
     std::string size = "640x480";
     std::string out = "out/render";
-    std::string backend = "osmesa";
+    std::string backend;  // set by add_backend_option: render::default_backend()
     int msaa = 4;
 };
 
@@ -112,7 +112,7 @@ Command add_render(CLI::App& app) {
                     "Frames to render, e.g. 0,30,60 (default: the checkpoints; the scene runs to the last)");
     cmd->add_option("--size", args->size, "Image size WIDTHxHEIGHT, px")->capture_default_str();
     cmd->add_option("--out", args->out, "Output folder")->capture_default_str();
-    cmd->add_option("--backend", args->backend, "osmesa or egl")->capture_default_str();
+    add_backend_option(cmd, &args->backend);
     cmd->add_option("--msaa", args->msaa, "MSAA samples (0 off)")->capture_default_str();
     return {cmd, [args] { return render_scene(*args); }};
 }

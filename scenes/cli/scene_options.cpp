@@ -43,9 +43,30 @@ std::pair<int, int> parse_size(const std::string& text) {
 
 render::Backend parse_backend(const std::string& text) {
     const auto b = render::backend_from_name(text);
-    if (!b || *b == render::Backend::glfw)
-        throw sim::InputError("--backend must be osmesa or egl (got '" + text + "')");
+    const std::string built = render::offscreen_backend_names();
+    if (!b || !render::backend_info(*b).offscreen) {
+        throw sim::InputError("--backend must be an off-screen backend of this build: " + built + " (got '" + text +
+                              "')");
+    }
+    if (!render::backend_info(*b).built) {
+        throw sim::InputError("--backend " + text +
+                              ": not in this build (its library was not found when it was "
+                              "configured); this build has: " +
+                              built);
+    }
     return *b;
+}
+
+void add_backend_option(CLI::App* app, std::string* backend) {
+    *backend = std::string(render::backend_name(render::default_backend()));
+    std::string help = "Off-screen GL backend; this build has: ";
+    const char* separator = "";
+    for (const render::BackendInfo& info : render::backends()) {
+        if (!info.offscreen || !info.built) continue;
+        help += separator + std::string(info.name) + " (" + std::string(info.about) + ")";
+        separator = ", ";
+    }
+    app->add_option("--backend", *backend, help)->capture_default_str();
 }
 
 }  // namespace scenes::cli

@@ -1,4 +1,5 @@
-// Frames per second of the renderer on OSMesa (llvmpipe): 200 spheres over the
+// Frames per second of the renderer on the default off-screen backend (OSMesa
+// where built, else EGL; llvmpipe either way): 200 spheres over the
 // ground with the shadow map, at 640x480 and 1280x720, MSAA off and 4x, with
 // and without reading the frame back. The target: 1280x720, 4x MSAA,
 // with read-back, >= 20 frames/s on 2 cores. Run with `make bench`; the figure
@@ -11,7 +12,7 @@
 namespace {
 
 render::GlContext& context() {
-    static const auto c = render::create_context({.backend = render::Backend::osmesa});
+    static const auto c = render::create_context({.backend = render::default_backend()});
     return *c;
 }
 

@@ -32,7 +32,7 @@ fs::path results(const std::string& name) {
 class CheckTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        context_ = render::create_context({.backend = render::Backend::osmesa}).release();
+        context_ = render::create_context({.backend = render::default_backend()}).release();
         renderer_ = new render::Renderer(*context_);
     }
     static void TearDownTestSuite() {

@@ -1,7 +1,7 @@
 // `plausible view` end to end: the real command in a real GLFW window on a
 // virtual display (Xvfb), keys and mouse sent by xdotool, screenshots of the
-// window compared with the off-screen (OSMesa) render of the same frame, and
-// the state it printed compared with the same frames run here.
+// window compared with the off-screen render (the default backend) of the same
+// frame, and the state it printed compared with the same frames run here.
 #include "render/gl_context.h"
 #include "render/golden.h"
 #include "render/image.h"
