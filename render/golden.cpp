@@ -28,6 +28,11 @@ void blit(Image& dst, const Image& src, int x0, int y0) {
 
 }  // namespace
 
+GoldenThresholds for_another_renderer(GoldenThresholds t) {
+    t.large_share = std::min(1.0, t.large_share * kAnotherRendererLargeFactor);
+    return t;
+}
+
 void validate(const GoldenThresholds& t) {
     if (t.small_max_d < 0 || t.small_max_d > 255) {
         throw RenderError(ErrorKind::bad_input, "thresholds.small_max_d must be within 0 .. 255 levels (got " +

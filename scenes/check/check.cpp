@@ -269,13 +269,33 @@ void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
     }
 }
 
-// The image against the golden's within its thresholds, the state hashes
-// exactly; rewritten with --update all (or changed, when it differs).
+// The golden was drawn by another renderer: another GL_RENDERER (llvmpipe's
+// names its LLVM and vector width) or GL_VERSION (Mesa's). The backend and
+// the thread count do not change pixels (EGL and OSMesa on one Mesa give the
+// same bytes). A golden without a fingerprint counts as this renderer's.
+bool drawn_by_another_renderer(const json& golden, const render::Fingerprint& f) {
+    if (!golden.contains("fingerprint") || !golden["fingerprint"].is_object()) return false;
+    const json& g = golden["fingerprint"];
+    return g.value("renderer", f.renderer) != f.renderer || g.value("version", f.version) != f.version;
+}
+
+std::string share_text(double share) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g%%", 100.0 * share);
+    return text;
+}
+
+// The image against the golden's within its thresholds (another renderer's
+// tolerance where another drew it), the state hashes exactly; rewritten with
+// --update all (or changed, when it differs).
 void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden,
                           const render::Fingerprint& fingerprint, const CheckOptions& options,
                           const fs::path& golden_dir, const Evidence& evidence) {
     const render::Image expected = render::read_png(golden.png, 3);
-    c.image = render::compare_golden(strip.image, expected, thresholds_from(golden.previous, golden.json_file));
+    render::GoldenThresholds thresholds = thresholds_from(golden.previous, golden.json_file);
+    const bool another_renderer = drawn_by_another_renderer(golden.previous, fingerprint);
+    if (another_renderer) thresholds = render::for_another_renderer(thresholds);
+    c.image = render::compare_golden(strip.image, expected, thresholds);
     const bool physics_same = c.first_hash_mismatch < 0;
     const bool pass = c.image->pass && physics_same;
     if (!c.hashes_comparable()) {
@@ -286,7 +306,10 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
     } else {
         c.message = physics_changed(c, strip) + "; image " + c.image->summary;
     }
-    if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
+    if (another_renderer) {
+        c.message += "; drawn by another renderer than the golden's (" + c.fingerprint_expected +
+                     "), so judged with its tolerance: large errors on up to " + share_text(thresholds.large_share);
+    } else if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
         c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
     }
     if (options.update == UpdateMode::all || (!pass && options.update == UpdateMode::changed)) {

@@ -114,12 +114,13 @@ fs::path golden_copy(const fs::path& dir, const std::vector<std::string>& names)
     return dir;
 }
 
-// Paints a 40 x 40 px red square into a golden image: 1600 pixels with a large
-// error, about 0.3% of a four-tile strip, above the default 0.01%.
-void tamper(const fs::path& png) {
+// Paints a side x side px red square (default 40: 1600 pixels with a large
+// error, about 0.3% of a four-tile strip, above the default 0.01%) into a
+// golden image, its corner at (100, 100).
+void tamper(const fs::path& png, int side = 40) {
     render::Image image = render::read_png(png, 3);
-    for (int y = 100; y < 140; ++y) {
-        for (int x = 100; x < 140; ++x) {
+    for (int y = 100; y < 100 + side; ++y) {
+        for (int x = 100; x < 100 + side; ++x) {
             std::uint8_t* p = image.at(x, y);
             p[0] = 255;
             p[1] = 0;
@@ -136,9 +137,21 @@ json read_json(const fs::path& file) {
 
 void write_json(const fs::path& file, const json& j) { std::ofstream(file) << j.dump(2) << "\n"; }
 
+// A scratch golden directory with goldens of `names` drawn by this renderer
+// (not the shipped ones, which another Mesa draws a little differently), for
+// tests that count differing pixels.
+fs::path golden_fresh(const fs::path& dir, const std::vector<std::string>& names, render::Renderer& renderer,
+                      const render::Fingerprint& fingerprint) {
+    CheckOptions options{.update = UpdateMode::missing, .golden_dir = dir, .report_dir = dir / "report"};
+    for (const SceneCheck& c : check_scenes(names, {}, options, renderer, fingerprint)) {
+        EXPECT_EQ(c.status, SceneCheck::Status::updated) << c.scene << ": " << c.message;
+    }
+    return dir;
+}
+
 TEST_F(CheckTest, PerSceneThresholdsNeedAReasonAndAreApplied) {
     const fs::path report = results("thresholds");
-    const fs::path golden = golden_copy(report / "golden", {"ballistic"});
+    const fs::path golden = golden_fresh(report / "golden", {"ballistic"}, *renderer_, context_->fingerprint());
     tamper(golden / "ballistic.png");
     CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
 
@@ -189,6 +202,31 @@ TEST(CheckPhysics, JudgesTheStateHashesAloneAndWritesNoGolden) {
     EXPECT_THROW(check_physics({"ballistic"}, {}, options), sim::InputError);
 }
 
+// A golden drawn by another renderer (another Mesa, LLVM or GPU) is judged
+// with ten times the large-error share, and the verdict says so; by this
+// renderer, with the golden's own thresholds.
+TEST_F(CheckTest, AGoldenFromAnotherRendererIsJudgedWithItsTolerance) {
+    const fs::path report = results("other-renderer");
+    const fs::path golden = golden_fresh(report / "golden", {"ballistic"}, *renderer_, context_->fingerprint());
+    tamper(golden / "ballistic.png", 10);  // 100 px: about 0.02%, over 0.01% and within 0.1%
+    CheckOptions options{.update = UpdateMode::none, .golden_dir = golden, .report_dir = report};
+    auto r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+    EXPECT_EQ(r[0].message.find("another renderer"), std::string::npos) << r[0].message;
+
+    json j = read_json(golden / "ballistic.json");
+    j["fingerprint"]["version"] = "4.5 (Core Profile) Mesa 99.0.0-test";
+    write_json(golden / "ballistic.json", j);
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
+    EXPECT_NE(r[0].message.find("drawn by another renderer than the golden's"), std::string::npos) << r[0].message;
+    EXPECT_NE(r[0].message.find("up to 0.1%"), std::string::npos) << r[0].message;
+
+    tamper(golden / "ballistic.png");  // 1600 px, 0.3%: over another renderer's tolerance too
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+}
+
 // A golden made on another architecture: its hashes cannot be the same bits
 // (another libm, an ODE built with fused multiply-adds), so check judges by
 // the image alone and says so, instead of crying "physics changed"; a
@@ -221,7 +259,9 @@ TEST_F(CheckTest, AGoldenFromAnotherArchitectureIsJudgedByItsImageAlone) {
 
 TEST_F(CheckTest, UpdateChangedRewritesOnlyTheFailingScenes) {
     const fs::path report = results("update-changed");
-    const fs::path golden = golden_copy(report / "golden", {"ballistic", "pendulum"});
+    const fs::path golden =
+        golden_fresh(report / "golden", {"ballistic", "pendulum"}, *renderer_, context_->fingerprint());
+    const std::vector<std::uint8_t> fresh_pendulum = render::read_png(golden / "pendulum.png", 3).pixels;
     tamper(golden / "pendulum.png");
     json reasoned = read_json(golden / "pendulum.json");
     reasoned["thresholds"]["small_share"] = 0.06;
@@ -242,10 +282,9 @@ TEST_F(CheckTest, UpdateChangedRewritesOnlyTheFailingScenes) {
     EXPECT_EQ(r[1].status, SceneCheck::Status::updated) << r[1].message;
     EXPECT_EQ(fs::last_write_time(golden / "ballistic.png"), untouched_png) << "a passing golden is not rewritten";
     EXPECT_EQ(fs::last_write_time(golden / "ballistic.json"), untouched_json);
-    // The rewritten golden is what the shipped one is (rendering is
+    // The rewritten golden is what this renderer drew before (rendering is
     // deterministic), and the scene's own thresholds and reason survive.
-    EXPECT_EQ(render::read_png(golden / "pendulum.png", 3).pixels,
-              render::read_png(default_golden_dir() / "pendulum.png", 3).pixels);
+    EXPECT_EQ(render::read_png(golden / "pendulum.png", 3).pixels, fresh_pendulum);
     const json after = read_json(golden / "pendulum.json");
     EXPECT_EQ(after["thresholds_reason"], "test: kept across a rewrite");
     EXPECT_EQ(after["thresholds"]["small_share"], 0.06);
