@@ -7,7 +7,7 @@ PRESET := $(if $(filter true 1,$(CI)),ci,release)
 JOBS   := $(shell nproc 2>/dev/null || echo 2)
 RESULTS := build/test-results
 
-.PHONY: all deps configure build test demo bench test-sanitize clean
+.PHONY: all deps configure build test demo bench test-sanitize fuzz clean
 
 all: build
 
@@ -56,5 +56,13 @@ test-sanitize: deps
 	cmake --build --preset sanitize -j $(JOBS)
 	ctest --preset sanitize -j $(JOBS)
 
+# The scene loader's fuzzer (tools/fuzz): built with clang, ASan and UBSan
+# into build-fuzz/, run for FUZZ_SECONDS on the shipped and the malformed
+# scenes; what it finds lands in build-fuzz/findings/. `make test` runs it
+# for 60 s when clang is there (the fuzz.smoke test).
+FUZZ_SECONDS := 600
+fuzz: deps
+	FUZZ_JOBS=$(JOBS) sh tools/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz
+
 clean:
-	rm -rf build build-sanitize
+	rm -rf build build-sanitize build-fuzz
