@@ -41,11 +41,11 @@ std::size_t links_in(const sim::ParticleModel& model) {
 // (a cloth with shear and bend: 6 a node; a soft body: 13), so a file of a
 // few lines can ask for more than [[forces.springs]] may list: the same
 // limit for all of them together.
-void refuse_too_many_links(const SceneBuilder& b, const Section& s, const sim::BodyRange& range) {
-    const std::size_t links = links_in(b.scene.model);
+void refuse_links(const Section& s, const std::string& verb, std::size_t body_links, std::size_t nodes,
+                  std::size_t links) {
     if (links <= kMaxSprings) return;
-    s.reader().fail(&s.table(), s.path() + " makes " + std::to_string(range.links.size()) + " links on " +
-                                    std::to_string(range.count) + " nodes, " + std::to_string(links) +
+    s.reader().fail(&s.table(), s.path() + " " + verb + " " + std::to_string(body_links) + " links on " +
+                                    std::to_string(nodes) + " nodes, " + std::to_string(links) +
                                     " in the scene with the bodies before it (springs, constraints and tethers), "
                                     "about " + sim::format_value(std::round(links * kLinkBytes / 1e8) / 10.0) +
                                     " GB at " + sim::format_value(kLinkBytes) + " bytes a link; at most " +
@@ -56,9 +56,13 @@ void refuse_too_many_links(const SceneBuilder& b, const Section& s, const sim::B
 
 }  // namespace
 
+void refuse_links_ahead(const SceneBuilder& b, const Section& s, std::size_t body_links, std::size_t nodes) {
+    refuse_links(s, "would make", body_links, nodes, links_in(b.scene.model) + body_links);
+}
+
 void add_body(SceneBuilder& b, const Section& s, BodyLook::Kind kind, const sim::BodyRange& range,
               const std::string& name, Color color, bool nodes_visible, double node_radius) {
-    refuse_too_many_links(b, s, range);
+    refuse_links(s, "makes", range.links.size(), range.count, links_in(b.scene.model));  // tethers included
     SceneDef& scene = b.scene;
     for (std::uint32_t k = 0; k < range.count; ++k) {
         const std::size_t i = range.first + k;

@@ -91,10 +91,13 @@ TEST(WorkLimits, TrailsStopAtFiftyMillionPoints) {
 // 350 bytes each: a 1000² cloth took 2.1 GB).
 TEST(WorkLimits, LinksStopAtFourMillion) {
     const std::string big = refusal("description = \"d\"\n[[cloths]]\nnx = 820\nny = 820\nshear = 1\nbend = 1\n");
-    EXPECT_NE(big.find("galaxy.toml:2:1: cloths[0] makes 4026202 links on 672400 nodes, 4026202 in the scene"),
+    EXPECT_NE(big.find("galaxy.toml:2:1: cloths[0] would make 4026202 links on 672400 nodes, 4026202 in the scene"),
               std::string::npos)
         << big;
     EXPECT_NE(big.find("about 1.4 GB at 350 bytes a link; at most 4000000 links"), std::string::npos) << big;
+    // A soft body's 13 neighbour offsets, counted before the build: 100³ nodes, 12,731,796 links.
+    const std::string soft = refusal("description = \"d\"\n[[soft_bodies]]\nnx = 100\nny = 100\nnz = 100\n");
+    EXPECT_NE(soft.find("soft_bodies[0] would make 12731796 links on 1000000 nodes"), std::string::npos) << soft;
 }
 
 // Backward Euler on springs: 150 µs a particle + 1 ns a flop of the symbolic
@@ -130,6 +133,23 @@ TEST(WorkLimits, AFrameOfLinearWorkStopsAtASecond) {
                         "most 1 s a frame"),
               std::string::npos)
         << slow;
+}
+
+// ODE's exact step solves a jointed island as one dense LCP, about rows³ at
+// 0.6 ns: a chain of 400 ball-jointed links (400 joints, 1200 rows) is
+// 1.04 s a frame and refused; 300 links (900 rows) 0.44 s; with quickstep
+// (the default) neither is anywhere near.
+TEST(WorkLimits, OdesExactStepCountsItsIslandsRowsCubed) {
+    auto chain = [](int links, bool quickstep) {
+        return "description = \"d\"\n[rigid]\nquickstep = " + std::string(quickstep ? "true" : "false") +
+               "\n[[chains]]\nanchor = [0, 50, 0]\nlinks = " + std::to_string(links) +
+               "\nlink_length = 0.05\nradius = 0.01\n";
+    };
+    EXPECT_EQ(refusal(chain(300, false)), "");
+    EXPECT_EQ(refusal(chain(400, true)), "");
+    const std::string exact = refusal(chain(400, false));
+    EXPECT_NE(exact.find("rows³ of ODE's exact step would take about 1 s; at most 1 s a frame"), std::string::npos)
+        << exact;
 }
 
 }  // namespace
