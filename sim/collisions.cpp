@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <tuple>
 
 namespace sim {
 
@@ -268,12 +269,44 @@ std::uint32_t sort_into_cells(const PairGrid& g, ConstVec3Span x, const double* 
     return entries;
 }
 
+// A crowded grid: the dense grid spans the free particles' bounding box and
+// coarsens until it has about 16 cells a particle, so one far particle (a
+// droplet flung 9 km off, still inside the watchdog's box) stretches it until
+// the others share a few cells, and the tests grow as the square of a cell's
+// count (10⁵ particles in one cell: 5e9 tests a pass, seconds a substep).
+// find_pairs gives up past kCrowded candidates an entry (plus a floor for
+// small scenes) and the pass takes the sparse grid below instead. The shipped
+// scenes test at most a few an entry (the fountain: about seven).
+constexpr double kCrowded = 64.0;
+constexpr double kCrowdedFloor = 4096.0;
+
+// Entry ei against entries [begin, end) into s.pairs from `found`; returns
+// the new count. Every candidate is written and the count moves on only for
+// an overlap: no branch to mispredict on a test that is mostly false (about
+// one candidate in seven overlaps in the fountain). Room for the whole range first.
+inline std::size_t scan_candidates(CollisionScratch& s, std::uint32_t ei, std::uint32_t begin, std::uint32_t end,
+                                   std::size_t found) {
+    if (begin >= end) return found;
+    if (s.pairs.size() < found + (end - begin)) s.pairs.resize(2 * (found + (end - begin)));
+    std::array<std::uint32_t, 2>* out = s.pairs.data();
+    const double* pi = &s.sorted[4 * static_cast<std::size_t>(ei)];
+    for (std::uint32_t ej = begin; ej < end; ++ej) {
+        const double* pj = &s.sorted[4 * static_cast<std::size_t>(ej)];
+        const double dx = pi[0] - pj[0], dy = pi[1] - pj[1], dz = pi[2] - pj[2];
+        const double reach = pi[3] + pj[3];
+        out[found] = {ei, ej};
+        found += dx * dx + dy * dy + dz * dz < reach * reach;
+    }
+    return found;
+}
+
 // Overlapping pairs into s.pairs, as entry indices (ei < ej), on the
 // positions as they were at the start of the pass; returns how many. Each
 // entry against: the rest of its own cell and the next one in its row (one
 // range), the row above (dy = 1), and the three rows in front (dz = 1, dy =
 // -1 .. 1), each row dx = -1 .. 1: the 13 forward neighbour cells, so every
-// pair is found once, in the order (ei, ej).
+// pair is found once, in the order (ei, ej). None when the grid is crowded
+// (kCrowded).
 //
 // A neighbour cell across a face of the entry's cell that is farther from it
 // than the largest reach 2 r_max holds nothing it overlaps: that cell is left
@@ -283,7 +316,7 @@ std::uint32_t sort_into_cells(const PairGrid& g, ConstVec3Span x, const double* 
 // here and the cell indices of the particles differ by rounding, a few ulp of
 // the coordinates: `slack`, a millionfold that, keeps the skipping on the
 // safe side.
-std::size_t find_pairs(const PairGrid& g, std::uint32_t entries, CollisionScratch& s) {
+std::optional<std::size_t> find_pairs(const PairGrid& g, std::uint32_t entries, CollisionScratch& s) {
     const double reach_max = 2.0 * g.r_max;  // m, the largest r_i + r_j
     const double slack = 1e-9 * std::max({g.lo.cwiseAbs().maxCoeff(), g.hi.cwiseAbs().maxCoeff(), g.cell});  // m
     auto near_low = [&](double p, double origin, std::int64_t k) {
@@ -295,28 +328,19 @@ std::size_t find_pairs(const PairGrid& g, std::uint32_t entries, CollisionScratc
     const double* sorted = s.sorted.data();
     const std::uint32_t* cell_start = s.cell_start.data();
     std::size_t found = 0;
+    double tested = 0.0;  // candidates tested so far
+    const double most_tested = kCrowded * entries + kCrowdedFloor;
     for (std::uint32_t ei = 0; ei < entries; ++ei) {
+        if (tested > most_tested) return std::nullopt;
         const double* pi = &sorted[4 * static_cast<std::size_t>(ei)];
         const GridCell c = s.cell_xyz[s.cell_entries[ei]];
         const std::int64_t cx = c.x, cy = c.y, cz = c.z;
         // The cells of a row to scan: dx = -1 and dx = 1 when near those faces.
         const std::int64_t x_first = cx > 0 && near_low(pi[0], g.lo.x(), cx) ? cx - 1 : cx;
         const std::int64_t x_last = cx + 1 < g.nx && near_high(pi[0], g.lo.x(), cx) ? cx + 1 : cx;
-        // Every candidate is written and the count moves on only for an
-        // overlap: no branch to mispredict on a test that is mostly false
-        // (about one candidate in seven overlaps in the fountain). Room for
-        // the whole range first.
         auto scan = [&](std::uint32_t begin, std::uint32_t end) {
-            if (begin >= end) return;
-            if (s.pairs.size() < found + (end - begin)) s.pairs.resize(2 * (found + (end - begin)));
-            std::array<std::uint32_t, 2>* out = s.pairs.data();
-            for (std::uint32_t ej = begin; ej < end; ++ej) {
-                const double* pj = &sorted[4 * static_cast<std::size_t>(ej)];
-                const double dx = pi[0] - pj[0], dy = pi[1] - pj[1], dz = pi[2] - pj[2];
-                const double reach = pi[3] + pj[3];
-                out[found] = {ei, ej};
-                found += dx * dx + dy * dy + dz * dz < reach * reach;
-            }
+            tested += end > begin ? end - begin : 0;
+            found = scan_candidates(s, ei, begin, end, found);
         };
         auto row = [&](std::int64_t y, std::int64_t z) {
             if (y < 0 || y >= g.ny || z >= g.nz) return;
@@ -332,6 +356,79 @@ std::size_t find_pairs(const PairGrid& g, std::uint32_t entries, CollisionScratc
             row(cy, cz + 1);
             if (near_high(pi[1], g.lo.y(), cy)) row(cy + 1, cz + 1);
         }
+    }
+    return found;
+}
+
+// The crowded grid's fallback: a sparse grid of cells of 2 r_max holding
+// only the occupied ones, as the entries sorted by cell (z, y, x, then by
+// particle); a neighbour row is a binary search. O(n log n) however far apart
+// the particles are. The cell coordinates stay doubles, floor((p - lo) /
+// cell): exact below 2^53 cells; beyond (a particle 2^53 diameters from the
+// lowest, where positions are no finer than a diameter) two touching
+// particles may land in cells two apart and be missed. Its pairs come in
+// another order than the dense grid's, so only a crowded pass takes it.
+std::uint32_t sort_sparse(const PairGrid& g, ConstVec3Span x, const double* radius, const double* inv_mass,
+                          CollisionScratch& s) {
+    const double cell = 2.0 * g.r_max;
+    auto key = [&](double p, double origin) {
+        return std::floor(std::min((p - origin) / cell, std::numeric_limits<double>::max()));
+    };
+    s.cell_entries.clear();
+    s.sparse_cells.resize(x.n);
+    for (std::uint32_t i = 0; i < x.n; ++i) {
+        if (!in_grid(x, radius, inv_mass, i)) continue;
+        s.sparse_cells[i] = {key(x.c[0][i], g.lo.x()), key(x.c[1][i], g.lo.y()), key(x.c[2][i], g.lo.z())};
+        s.cell_entries.push_back(i);
+    }
+    const auto& cells = s.sparse_cells;
+    std::sort(s.cell_entries.begin(), s.cell_entries.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(cells[a][2], cells[a][1], cells[a][0], a) < std::tie(cells[b][2], cells[b][1], cells[b][0], b);
+    });
+    const auto entries = static_cast<std::uint32_t>(s.cell_entries.size());
+    s.sorted.resize(4 * static_cast<std::size_t>(entries));
+    for (std::uint32_t e = 0; e < entries; ++e) {
+        const std::uint32_t i = s.cell_entries[e];
+        s.sorted[4 * e + 0] = x.c[0][i];
+        s.sorted[4 * e + 1] = x.c[1][i];
+        s.sorted[4 * e + 2] = x.c[2][i];
+        s.sorted[4 * e + 3] = radius[i];
+    }
+    // The cells in entry order, for the searches.
+    std::vector<std::array<double, 3>> by_entry(entries);
+    for (std::uint32_t e = 0; e < entries; ++e) by_entry[e] = cells[s.cell_entries[e]];
+    s.sparse_cells = std::move(by_entry);
+    return entries;
+}
+
+// The pairs of the sparse grid, each entry against the same 13 forward
+// neighbour cells as find_pairs: its own row up to the next cell (one range),
+// the row above, the three rows in front. A row whose coordinate ± 1 rounds
+// back to the entry's own (beyond 2^53 cells) is its own row, scanned once.
+std::size_t find_pairs_sparse(std::uint32_t entries, CollisionScratch& s) {
+    const auto& cells = s.sparse_cells;  // (x, y, z) in entry order
+    auto order = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+        return std::tie(a[2], a[1], a[0]) < std::tie(b[2], b[1], b[0]);
+    };
+    const auto begin = cells.begin(), end = cells.begin() + entries;
+    auto first = [&](const std::array<double, 3>& c) {
+        return static_cast<std::uint32_t>(std::lower_bound(begin, end, c, order) - begin);
+    };
+    auto after = [&](const std::array<double, 3>& c) {
+        return static_cast<std::uint32_t>(std::upper_bound(begin, end, c, order) - begin);
+    };
+    std::size_t found = 0;
+    for (std::uint32_t ei = 0; ei < entries; ++ei) {
+        const double cx = cells[ei][0], cy = cells[ei][1], cz = cells[ei][2];
+        auto row = [&](double y, double z) {
+            found = scan_candidates(s, ei, first({cx - 1.0, y, z}), after({cx + 1.0, y, z}), found);
+        };
+        found = scan_candidates(s, ei, ei + 1, after({cx + 1.0, cy, cz}), found);
+        if (cy + 1.0 != cy) row(cy + 1.0, cz);
+        if (cz + 1.0 == cz) continue;
+        if (cy - 1.0 != cy) row(cy - 1.0, cz + 1.0);
+        row(cy, cz + 1.0);
+        if (cy + 1.0 != cy) row(cy + 1.0, cz + 1.0);
     }
     return found;
 }
@@ -384,9 +481,13 @@ std::size_t collide_pairs(const Collisions& c, Vec3Span x, Vec3Span v, const dou
                           CollisionScratch& s) {
     const std::optional<PairGrid> grid = pair_grid(x, radius, inv_mass);
     if (!grid) return 0;
-    const std::uint32_t entries = sort_into_cells(*grid, x, radius, inv_mass, s);
-    const std::size_t found = find_pairs(*grid, entries, s);
-    return resolve_pairs(c, x, v, radius, inv_mass, s, found);
+    std::uint32_t entries = sort_into_cells(*grid, x, radius, inv_mass, s);
+    std::optional<std::size_t> found = find_pairs(*grid, entries, s);
+    if (!found) {
+        entries = sort_sparse(*grid, x, radius, inv_mass, s);
+        found = find_pairs_sparse(entries, s);
+    }
+    return resolve_pairs(c, x, v, radius, inv_mass, s, *found);
 }
 
 }  // namespace

@@ -100,6 +100,7 @@ struct CollisionScratch {
     std::vector<GridCell> cell_xyz;                   // cell coordinates of each particle in the grid
     std::vector<double> sorted;                       // (4 x entries) x, y, z, radius in entry order, m
     std::vector<std::array<std::uint32_t, 2>> pairs;  // overlapping pairs found, as entry indices
+    std::vector<std::array<double, 3>> sparse_cells;  // a crowded grid's fallback: cell (x, y, z) of each entry
     std::size_t contacts = 0;                         // contacts resolved in the last pass
 };
 

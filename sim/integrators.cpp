@@ -663,6 +663,37 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     }
 }
 
+namespace {
+
+// SimplicialLDLT's symbolic half only: analyzePattern() orders the matrix and
+// counts the non-zeros of each column of L (protected in Eigen, hence the
+// subclass); factorize() is never called.
+struct SymbolicLDLT : Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> {
+    double flops() const {
+        double sum = 0.0;
+        for (Eigen::Index j = 0; j < m_nonZerosPerCol.size(); ++j) {
+            const double count = m_nonZerosPerCol[j] + 1.0;  // below the diagonal, and the diagonal
+            sum += count * count;
+        }
+        return sum;
+    }
+};
+
+}  // namespace
+
+double backward_euler_factor_flops(std::size_t n, const std::vector<std::array<std::uint32_t, 2>>& links) {
+    if (links.empty()) return 0.0;
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(n + 2 * links.size());
+    for (std::size_t i = 0; i < n; ++i) entries.emplace_back(i, i, 1.0);
+    for (const auto& [a, b] : links) entries.emplace_back(a, b, 1.0), entries.emplace_back(b, a, 1.0);
+    Eigen::SparseMatrix<double> pattern(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    pattern.setFromTriplets(entries.begin(), entries.end());
+    SymbolicLDLT symbolic;
+    symbolic.analyzePattern(pattern);
+    return 27.0 * symbolic.flops();
+}
+
 // 7. Look-ups -------------------------------------------------------------------
 
 std::optional<Integrator> integrator_from_name(std::string_view name) {

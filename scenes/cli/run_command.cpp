@@ -4,6 +4,7 @@
 #include "scenes/cli/commands.h"
 
 #include "scenes/common/interrupt.h"
+#include "scenes/common/progress.h"
 #include "scenes/draw/scene_run.h"
 
 #include <nlohmann/json.hpp>
@@ -86,14 +87,18 @@ struct EnergyRange {
 };
 
 // Steps the run to the scene's end (or the watchdog's stop), writing every
-// frame's rows to `csv` when there is one; returns the energy range.
+// frame's rows to `csv` when there is one; returns the energy range. On a
+// terminal a progress bar on stderr says how far it is and how long is left
+// (a large scene runs for minutes; without it a run looks hung).
 EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv) {
     EnergyRange energy(run.world().energy());
     if (csv) csv->rows(run);
+    Progress progress("run", progress_wanted(), frames);
     while (run.frame() < frames && run.advance()) {
         energy.add(run.world().energy());
         if (csv) csv->rows(run);
         if (interrupt_signal() != 0) check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
+        progress.step("frame " + std::to_string(run.frame()));
     }
     if (run.verdict().exploded()) {
         if (csv) csv->rows(run);

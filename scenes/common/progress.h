@@ -1,4 +1,4 @@
-// A progress bar with ETA on stderr, for the long commands (report, video):
+// A progress bar with ETA on stderr, for the long commands (run, report, video):
 // one line rewritten in place, a newline when done. Off, it only counts.
 // Each step is also where a long command notices Ctrl+C (scenes/interrupt.h).
 #pragma once

@@ -75,13 +75,16 @@ void apply_override(toml::table& root, const Override& o, Reader& reader) {
 void trim_checkpoints(toml::table& root, const std::vector<Override>& overrides) {
     const bool shortened =
         std::any_of(overrides.begin(), overrides.end(), [](const Override& o) { return o.key == "frames"; });
-    const auto frames = root["frames"].value<long long>();
+    // Integers only (as_integer, not value<long long>: toml++ turns a float
+    // such as frames = 1e308 into an integer by a cast, undefined out of
+    // range; the fuzzer found it). A float is refused by the reader later.
+    const auto* frames = root["frames"].as_integer();
     if (toml::array* checkpoints = root["checkpoints"].as_array(); shortened && frames && checkpoints) {
         for (std::size_t i = checkpoints->size(); i-- > 0;) {
-            const auto f = (*checkpoints)[i].value<long long>();
-            if (f && *f > *frames) checkpoints->erase(checkpoints->begin() + static_cast<std::ptrdiff_t>(i));
+            const auto* f = (*checkpoints)[i].as_integer();
+            if (f && f->get() > frames->get()) checkpoints->erase(checkpoints->begin() + static_cast<std::ptrdiff_t>(i));
         }
-        if (checkpoints->empty()) checkpoints->push_back(*frames);
+        if (checkpoints->empty()) checkpoints->push_back(frames->get());
     }
 }
 

@@ -28,6 +28,12 @@ void read_cloths(SceneBuilder& b, const Section& top) {
                                   : sim::ClothDef::Pins::corners;
         d.links = link_keys(s, 1000.0);
         const Color color = s.color("color", Color{0.75f, 0.2f, 0.2f, 1});
+        // sim::add_cloth's links: structural, two shear a cell, bend two apart.
+        const std::size_t nx = static_cast<std::size_t>(d.nx), ny = static_cast<std::size_t>(d.ny);
+        refuse_links_ahead(b, s,
+                           (nx - 1) * ny + nx * (ny - 1) + (d.shear > 0.0 ? 2 * (nx - 1) * (ny - 1) : 0) +
+                               (d.bend > 0.0 ? (nx - 2) * ny + nx * (ny - 2) : 0),
+                           nx * ny);
         const auto range = build_body(s, [&] { return sim::add_cloth(b.scene.model, d); });
         add_body(b, s, BodyLook::Kind::cloth, range, s.string("name", "cloth" + std::to_string(k), 64), color, false,
                  d.radius);

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 namespace scenes::loader {
 namespace {
@@ -77,6 +79,15 @@ Exact kepler(const ParticleGhost& g) {
     const sim::Vec3 centre = particles[c].position, x0 = g.x0, v0 = g.v0;
     if ((v0.squaredNorm() / 2 - mu / (x0 - centre).norm()) >= 0)
         g.s.fail("particle", "is not on a bound orbit (energy >= 0)");
+    // The closed form's own test too, which `run` meets at the first frame
+    // (exit 1 if it failed there): a particle on the centre (r = 0, which
+    // the energy above takes for -inf, bound), or an energy that rounds to
+    // bound above and not in the vis-viva form 2 / r - v² / μ.
+    try {
+        sim::analytic::orbit_elements(mu, x0 - centre, v0);
+    } catch (const std::domain_error& e) {
+        g.s.fail("particle", "has no closed-form orbit about the centre (" + std::string(e.what()) + ")");
+    }
     return [=](double t) {
         sim::analytic::PointState st = sim::analytic::kepler(mu, x0 - centre, v0, t);
         st.x += centre;

@@ -20,13 +20,15 @@ void read_timing(SceneBuilder& b, const Section& top) {
     }
     for (std::size_t i = 0; i < a->size(); ++i) {
         const toml::node& e = *a->get(i);
-        const auto f = e.value<long long>();
-        if (!e.is_integer() || *f < 0 || *f > scene.frames ||
+        // as_integer, not value<long long>: toml++ converts a float such as
+        // 1e308 to an integer by a cast, undefined out of range (the fuzzer's find).
+        const auto* f = e.as_integer();
+        if (f == nullptr || f->get() < 0 || f->get() > scene.frames ||
             (!scene.checkpoints.empty() && *f <= scene.checkpoints.back())) {
             b.r.fail(&e, "checkpoints[" + std::to_string(i) + "] must be an integer frame within 0 .. frames (" +
                              std::to_string(scene.frames) + "), ascending (got " + describe(e) + ")");
         }
-        scene.checkpoints.push_back(static_cast<int>(*f));
+        scene.checkpoints.push_back(static_cast<int>(f->get()));
     }
 }
 

@@ -1,13 +1,19 @@
 // Work that grows faster than the scene file: refused at load, with the
 // estimate. Every other cost of a scene is linear in what the file lists
 // (particles, links, bodies) times frames and substeps, and the readers'
-// limits bound each of those. Two keys multiply instead:
+// limits bound each of those. Some keys multiply instead:
 //  - Newton gravity pairs every particle with every other: one key on a
 //    group of a million particles asks for 5e11 pair evaluations a pass,
 //    more than an hour a frame. Backward Euler makes it worse: its Jacobian
 //    is dense, so each substep factors a dense 3n x 3n system.
 //  - [view] trail_frames keeps that many positions of every moving
 //    particle: 1e5 frames behind 1e6 particles is a terabyte.
+//  - Backward Euler factors the springs' sparse system every substep, which
+//    grows faster than the springs (a cloth of n nodes: about n^1.5 flops).
+//  - [step] substeps, [constraints] and [rigid] iterations multiply all the
+//    rest: a million particles at 10,000 substeps is a minute a frame.
+// (The links of a body, memory rather than time, are refused as the body is
+// built: particle_body.cpp.)
 // The estimates come from counts and fixed costs per unit, so the verdict
 // is the same on every machine; the costs are this machine's, to say what
 // the counts mean in seconds and bytes.
@@ -15,6 +21,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace scenes::loader {
 namespace {
@@ -103,6 +110,142 @@ void refuse_newton_gravity(const SceneBuilder& b, const Section& top) {
                  sim::format_value(most_particles(scene)) + " particles");
 }
 
+// Backward Euler's sparse solve on springs, measured on cloths of 20² to 60²
+// nodes with shear and bend (a step of 400 nodes, 9.1e6 flops by the
+// symbolic count, takes 72 ms; of 3600 nodes, 4.6e8 flops, 600 ms): a cost
+// per particle (the assembly and the fallback paths) and one per flop of the
+// factorization, s. The two together stay above every measured step.
+constexpr double kSolveParticleSeconds = 150e-6;
+constexpr double kSparseFlopSeconds = 1e-9;
+
+// Backward Euler factors the springs' sparse system every substep; its cost
+// grows faster than the springs do (a cloth of n nodes: about n^1.5 flops; a
+// soft body: about n²).
+void refuse_sparse_solve(const SceneBuilder& b, const Section& top) {
+    const SceneDef& scene = b.scene;
+    const sim::IntegratorInfo& info = sim::integrator_info(scene.step.integrator);
+    if (!info.needs_jacobians) return;
+    std::vector<std::array<std::uint32_t, 2>> links;
+    for (const sim::ForceDef& f : scene.model.forces) {
+        if (const auto* springs = std::get_if<sim::Springs>(&f)) {
+            for (const sim::Spring& spring : springs->list) links.push_back({spring.i, spring.j});
+        }
+    }
+    if (links.empty()) return;
+    const double n = static_cast<double>(scene.model.particles.size());
+    const double flops = sim::backward_euler_factor_flops(scene.model.particles.size(), links);
+    const double seconds = scene.step.substeps * (n * kSolveParticleSeconds + flops * kSparseFlopSeconds);
+    if (seconds <= kMaxSecondsPerFrame) return;
+    const toml::table* step = top.subtable("step");
+    b.r.fail(step != nullptr ? step->get("integrator") : nullptr,
+             "step.integrator = \"" + std::string(info.name) + "\" factors the springs' sparse system every substep: " +
+                 std::to_string(links.size()) + " springs on " + std::to_string(scene.model.particles.size()) +
+                 " particles make a factorization of " + sim::format_value(flops) + " flops (Eigen's symbolic count), x " +
+                 std::to_string(scene.step.substeps) + (scene.step.substeps == 1 ? " substep" : " substeps") + " at " +
+                 sim::format_value(kSparseFlopSeconds * 1e9) + " ns a flop and " +
+                 sim::format_value(kSolveParticleSeconds * 1e6) + " µs a particle: about " +
+                 sim::format_value(std::round(seconds)) + " s a frame; at most " +
+                 sim::format_value(kMaxSecondsPerFrame) +
+                 " s a frame, so that no run hangs for hours: an explicit integrator with substeps, link = "
+                 "\"constraints\", or fewer nodes");
+}
+
+// What the rest of a substep costs, per unit, s, measured with `run --json`
+// (ms_per_step) on this machine: 10⁵ free particles 0.37 ms; a 300² cloth's
+// 537,000 springs 5.7 ms, or as constraints with its tethers at 4 iterations
+// 74 ms; 10⁵ colliding particles 8.3 ms; a chain of 1000 links on quickstep's
+// 20 iterations 15 ms. Rounded up. Linear in what the scene holds, but
+// multiplied by the substeps and the solvers' iterations, which the file sets
+// with one number each: a million particles at 10,000 substeps is about a
+// minute a frame.
+constexpr double kParticleSeconds = 5e-9;      // a particle's force evaluation and update
+constexpr double kSpringSeconds = 12e-9;       // a spring's force evaluation
+constexpr double kConstraintSeconds = 30e-9;   // a distance constraint or tether, one iteration
+constexpr double kCollisionSeconds = 100e-9;   // a particle in the pair grid, with its candidates
+constexpr double kBodySeconds = 5e-6;          // a rigid body in ODE's step, with its contacts
+constexpr double kJointRowSeconds = 500e-9;    // a joint in one of quickstep's iterations
+
+// ODE's exact step (quickstep = false) solves each island of jointed bodies
+// as one dense LCP, about rows³: a chain of 100 ball-jointed links (300 rows)
+// took 15 ms a step, of 400 links 426 ms, of 2000 more than a minute for 3
+// frames. s per row³, the larger of the two.
+constexpr double kLcpRowCubedSeconds = 6e-10;
+
+// The constraint rows of a joint: a ball holds 3; the others 5 or 6, with a limit's.
+double joint_rows(sim::JointType type) { return type == sim::JointType::ball ? 3.0 : 6.0; }
+
+// Σ rows³ over the islands the joints make (bodies joined directly or
+// through others; contacts join more at run time, which no load can know).
+double lcp_rows_cubed(const sim::RigidModel& rigid) {
+    std::vector<int> parent(rigid.bodies.size());
+    for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int>(k);
+    auto root = [&](int k) {
+        while (parent[static_cast<std::size_t>(k)] != k) {
+            auto& up = parent[static_cast<std::size_t>(k)];
+            up = parent[static_cast<std::size_t>(up)];  // path halving: long chains stay near-linear
+            k = up;
+        }
+        return k;
+    };
+    for (const sim::RigidJoint& j : rigid.joints) {
+        if (j.b >= 0) parent[static_cast<std::size_t>(root(j.a))] = root(j.b);
+    }
+    std::vector<double> rows(rigid.bodies.size(), 0.0);
+    for (const sim::RigidJoint& j : rigid.joints) rows[static_cast<std::size_t>(root(j.a))] += joint_rows(j.joint.type);
+    double sum = 0.0;
+    for (const double r : rows) sum += r * r * r;
+    return sum;
+}
+
+// The linear work of a frame, s, and what it is made of (for the message).
+struct FrameWork {
+    double seconds = 0.0;
+    std::string parts;
+};
+
+FrameWork frame_work(const SceneDef& scene) {
+    const sim::ParticleModel& m = scene.model;
+    const double evals = sim::integrator_info(scene.step.integrator).force_evaluations;
+    double springs = 0.0;
+    for (const sim::ForceDef& f : m.forces) {
+        if (const auto* s = std::get_if<sim::Springs>(&f)) springs += static_cast<double>(s->list.size());
+    }
+    const double n = static_cast<double>(m.particles.size());
+    const double constraints = static_cast<double>(m.constraints.distance.size() + m.constraints.tethers.size());
+    const double bodies = static_cast<double>(m.rigid.bodies.size());
+    const double joints = static_cast<double>(m.rigid.joints.size());
+    const double sweeps = m.rigid.settings.quickstep ? m.rigid.settings.iterations : 1.0;
+    FrameWork w;
+    auto add = [&](double count, double per, double seconds, const std::string& what) {
+        if (count == 0.0) return;
+        w.seconds += count * per * seconds;
+        w.parts += (w.parts.empty() ? "" : ", ") + std::to_string(static_cast<long long>(count)) + " " + what;
+    };
+    add(n, evals, kParticleSeconds, "particles");
+    add(springs, evals, kSpringSeconds, "springs");
+    add(constraints, m.constraints.iterations, kConstraintSeconds,
+        "constraints x " + std::to_string(m.constraints.iterations) + " iterations");
+    add(m.collisions.particle_particle ? n : 0.0, 1.0, kCollisionSeconds, "colliding particles");
+    add(bodies, 1.0, kBodySeconds, "rigid bodies");
+    add(joints, sweeps, kJointRowSeconds, "joints x " + sim::format_value(sweeps) + " iterations");
+    if (!m.rigid.settings.quickstep) add(lcp_rows_cubed(m.rigid), 1.0, kLcpRowCubedSeconds, "rows³ of ODE's exact step");
+    w.seconds *= scene.step.substeps;
+    return w;
+}
+
+void refuse_slow_frames(const SceneBuilder& b, const Section& top) {
+    const SceneDef& scene = b.scene;
+    const FrameWork w = frame_work(scene);
+    if (w.seconds <= kMaxSecondsPerFrame) return;
+    const toml::table* step = top.subtable("step");
+    const toml::node* substeps = step != nullptr ? step->get("substeps") : nullptr;
+    b.r.fail(substeps, "a frame of " + std::to_string(scene.step.substeps) +
+                           (scene.step.substeps == 1 ? " substep" : " substeps") + " over " + w.parts +
+                           " would take about " + sim::format_value(std::round(w.seconds * 10.0) / 10.0) +
+                           " s; at most " + sim::format_value(kMaxSecondsPerFrame) +
+                           " s a frame, so that no run hangs for hours: fewer substeps, or a smaller scene");
+}
+
 void refuse_trails(const SceneBuilder& b, const Section& top) {
     const SceneDef& scene = b.scene;
     if (scene.view.trail_frames <= 0) return;
@@ -130,6 +273,8 @@ void refuse_trails(const SceneBuilder& b, const Section& top) {
 
 void refuse_work_too_large(SceneBuilder& b, const Section& top) {
     refuse_newton_gravity(b, top);
+    refuse_sparse_solve(b, top);
+    refuse_slow_frames(b, top);
     refuse_trails(b, top);
 }
 

@@ -165,6 +165,37 @@ TEST(Collisions, TheGridFindsEveryOverlapAcrossCellFaces) {
     pairs.particle_particle = true;
     CollisionScratch scratch;
     EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1000u);
+    EXPECT_TRUE(scratch.sparse_cells.empty()) << "the dense grid, not the crowded grid's fallback";
+}
+
+// The same 1000 pairs with one particle 9 km off (inside the watchdog's
+// 10 km box): the dense grid over the bounding box would coarsen to cells of
+// 280 m with all 2000 in one (2e6 candidate tests, growing as the square of
+// the count: 10⁵ particles, 5e9 a pass). The pass notices the crowd and
+// takes the sparse grid (cells of 2 r, only the occupied ones): every pair is
+// still found, and the far particle touches none.
+TEST(Collisions, AFarOutlierDoesNotCrowdThePairGrid) {
+    const double r = 0.01;  // m
+    Random random(5);
+    Vec3Array x0(2001), x(2001), v(2001);
+    std::vector<double> radius(2001, r), inv_mass(2001, 1.0);
+    for (int k = 0; k < 1000; ++k) {
+        const Vec3 centre = 0.1 * Vec3(k % 10, (k / 10) % 10, k / 100);
+        const Vec3 half = (0.999 * r) * random.unit_vector();  // m: centres 0.999 (2 r) apart
+        x.set(2 * k, centre - half);
+        x.set(2 * k + 1, centre + half);
+    }
+    x.set(2000, Vec3(9000, 9000, 9000));
+    x0 = x;
+    Collisions pairs;
+    pairs.particle_particle = true;
+    CollisionScratch scratch;
+    EXPECT_EQ(collide(pairs, x0.span(), x.span(), v.span(), radius.data(), inv_mass.data(), 0.01, scratch), 1000u);
+    EXPECT_EQ(scratch.sparse_cells.size(), 2001u) << "the sparse grid's cells, one per entry";
+    EXPECT_EQ(x.get(2000), Vec3(9000, 9000, 9000)) << "m: the far particle touches none";
+    for (int k = 0; k < 1000; ++k) {
+        EXPECT_NEAR((x.get(2 * k + 1) - x.get(2 * k)).norm(), 2.0 * r, 1e-12) << "m: pair " << k << " pushed apart";
+    }
 }
 
 // Radii far below the particles' spread: cells of 2 r = 2e-20 m over 1 m

@@ -87,6 +87,11 @@ constexpr BadScene kCorpus[] = {
     {"rigid_iterations_zero.toml", 7, "rigid.iterations must be within 1 .. 10000 (got 0)"},
     {"chain_link_too_short.toml", 7, "chains[0].link_length must be more than twice the radius (0.2 m)"},
     {"ghost_unknown_body.toml", 11, "ghosts[0].body names no body (got 'hamer')"},
+    {"frames_huge_float.toml", 2, "frames must be an integer within 1 .. 10000000 (got 1e+308)"},
+    {"checkpoint_huge_float.toml", 3,
+     "checkpoints[1] must be an integer frame within 0 .. frames (10), ascending (got 1e+308)"},
+    {"ghost_kepler_on_centre.toml", 14,
+     "ghosts[0].particle has no closed-form orbit about the centre (kepler: r0 must not be zero)"},
     {"rigid_sleep_time_huge.toml", 8,
      "rigid.sleep_time must be > 0 and at most 1e+06, in s (11.6 days; a longer rest means never: say sleep = false) "
      "(got 1e+300)"},

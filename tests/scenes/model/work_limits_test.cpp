@@ -86,5 +86,71 @@ TEST(WorkLimits, TrailsStopAtFiftyMillionPoints) {
               std::string::npos);
 }
 
+// A cloth's links: structural 2 (n - 1) n, shear 2 (n - 1)², bend 2 (n - 2) n.
+// 820² nodes make 4,026,202, past the 4,000,000 a scene may hold (about
+// 350 bytes each: a 1000² cloth took 2.1 GB).
+TEST(WorkLimits, LinksStopAtFourMillion) {
+    const std::string big = refusal("description = \"d\"\n[[cloths]]\nnx = 820\nny = 820\nshear = 1\nbend = 1\n");
+    EXPECT_NE(big.find("galaxy.toml:2:1: cloths[0] would make 4026202 links on 672400 nodes, 4026202 in the scene"),
+              std::string::npos)
+        << big;
+    EXPECT_NE(big.find("about 1.4 GB at 350 bytes a link; at most 4000000 links"), std::string::npos) << big;
+    // A soft body's 13 neighbour offsets, counted before the build: 100³ nodes, 12,731,796 links.
+    const std::string soft = refusal("description = \"d\"\n[[soft_bodies]]\nnx = 100\nny = 100\nnz = 100\n");
+    EXPECT_NE(soft.find("soft_bodies[0] would make 12731796 links on 1000000 nodes"), std::string::npos) << soft;
+}
+
+// Backward Euler on springs: 150 µs a particle + 1 ns a flop of the symbolic
+// count, at most a second a frame. A 40² cloth (1600 nodes, 9.8e7 flops):
+// 0.34 s; an 80² one (6400 nodes: 0.96 s before a flop): refused, and so is
+// the 40² one at four substeps.
+TEST(WorkLimits, BackwardEulerCountsItsSparseFactorization) {
+    auto cloth = [](int n, int substeps) {
+        return "description = \"d\"\n[step]\nintegrator = \"backward_euler\"\nsubsteps = " + std::to_string(substeps) +
+               "\n[[cloths]]\nnx = " + std::to_string(n) + "\nny = " + std::to_string(n) + "\nshear = 1\nbend = 0.5\n";
+    };
+    EXPECT_EQ(refusal(cloth(40, 1)), "");
+    const std::string big = refusal(cloth(80, 1));
+    EXPECT_NE(big.find("galaxy.toml:3:14: step.integrator = \"backward_euler\" factors the springs' sparse system "
+                       "every substep: 37602 springs on 6400 particles make a factorization of "),
+              std::string::npos)
+        << big;
+    EXPECT_NE(refusal(cloth(40, 4)).find("x 4 substeps"), std::string::npos);
+    // The same cloth held by constraints has no springs to factor.
+    EXPECT_EQ(refusal(cloth(80, 1) + "link = \"constraints\"\n"), "");
+}
+
+// The linear work of a frame, times the substeps: 10⁵ particles at 5 ns each
+// are 0.5 s a frame at 1000 substeps, 5 s at 10,000.
+TEST(WorkLimits, AFrameOfLinearWorkStopsAtASecond) {
+    auto group = [](int substeps) {
+        return "description = \"d\"\n[step]\nsubsteps = " + std::to_string(substeps) +
+               "\n[[groups]]\ncount = 100000\nspacing = [0.01, 0, 0]\n";
+    };
+    EXPECT_EQ(refusal(group(1000)), "");
+    const std::string slow = refusal(group(10'000));
+    EXPECT_NE(slow.find("galaxy.toml:3:12: a frame of 10000 substeps over 100000 particles would take about 5 s; at "
+                        "most 1 s a frame"),
+              std::string::npos)
+        << slow;
+}
+
+// ODE's exact step solves a jointed island as one dense LCP, about rows³ at
+// 0.6 ns: a chain of 400 ball-jointed links (400 joints, 1200 rows) is
+// 1.04 s a frame and refused; 300 links (900 rows) 0.44 s; with quickstep
+// (the default) neither is anywhere near.
+TEST(WorkLimits, OdesExactStepCountsItsIslandsRowsCubed) {
+    auto chain = [](int links, bool quickstep) {
+        return "description = \"d\"\n[rigid]\nquickstep = " + std::string(quickstep ? "true" : "false") +
+               "\n[[chains]]\nanchor = [0, 50, 0]\nlinks = " + std::to_string(links) +
+               "\nlink_length = 0.05\nradius = 0.01\n";
+    };
+    EXPECT_EQ(refusal(chain(300, false)), "");
+    EXPECT_EQ(refusal(chain(400, true)), "");
+    const std::string exact = refusal(chain(400, false));
+    EXPECT_NE(exact.find("rows³ of ODE's exact step would take about 1 s; at most 1 s a frame"), std::string::npos)
+        << exact;
+}
+
 }  // namespace
 }  // namespace scenes
