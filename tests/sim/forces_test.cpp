@@ -404,7 +404,10 @@ void expect_same_block_by_block(const ForceDef& def, const Fixture& fx, std::siz
     Vec3Array blocks(n);
     Jacobians whole_jac, block_jac;
     std::visit([&](const auto& g) { accumulate_jacobians(g, fx.input(), whole_jac); }, def);
-    for (const auto& [first, count] : {std::pair{std::size_t{0}, split}, std::pair{split, n - split}}) {
+    for (const auto& range : {std::pair{std::size_t{0}, split}, std::pair{split, n - split}}) {
+        // Plain names, not a structured binding: clang before 16 cannot
+        // capture a binding in the lambdas below.
+        const std::size_t first = range.first, count = range.second;
         const ForceInput in{0.0,
                             first,
                             fx.x.span().block(first, count),
