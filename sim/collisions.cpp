@@ -227,6 +227,19 @@ std::optional<PairGrid> pair_grid(ConstVec3Span x, const double* radius, const d
     return g;
 }
 
+// Each entry's position and radius side by side, in entry order (x, y, z, r),
+// so that the candidate scans read one cache line per entry.
+void gather_sorted(ConstVec3Span x, const double* radius, std::uint32_t entries, CollisionScratch& s) {
+    s.sorted.resize(4 * static_cast<std::size_t>(entries));
+    for (std::uint32_t e = 0; e < entries; ++e) {
+        const std::uint32_t i = s.cell_entries[e];
+        s.sorted[4 * e + 0] = x.c[0][i];
+        s.sorted[4 * e + 1] = x.c[1][i];
+        s.sorted[4 * e + 2] = x.c[2][i];
+        s.sorted[4 * e + 3] = radius[i];
+    }
+}
+
 // Counting sort of the free particles by cell. The counts go two slots up
 // (cell_start[id + 2]), so that after the prefix sum cell_start[id + 1] is
 // cell id's first entry, and filling the entries through it moves it on to
@@ -258,14 +271,7 @@ std::uint32_t sort_into_cells(const PairGrid& g, ConstVec3Span x, const double* 
             s.cell_entries[s.cell_start[static_cast<std::size_t>(s.cell_of[i]) + 1]++] = static_cast<std::uint32_t>(i);
     }
     const auto entries = static_cast<std::uint32_t>(s.cell_start[g.cells]);
-    s.sorted.resize(4 * static_cast<std::size_t>(entries));
-    for (std::uint32_t e = 0; e < entries; ++e) {
-        const std::uint32_t i = s.cell_entries[e];
-        s.sorted[4 * e + 0] = x.c[0][i];
-        s.sorted[4 * e + 1] = x.c[1][i];
-        s.sorted[4 * e + 2] = x.c[2][i];
-        s.sorted[4 * e + 3] = radius[i];
-    }
+    gather_sorted(x, radius, entries, s);
     return entries;
 }
 
@@ -386,14 +392,7 @@ std::uint32_t sort_sparse(const PairGrid& g, ConstVec3Span x, const double* radi
         return std::tie(cells[a][2], cells[a][1], cells[a][0], a) < std::tie(cells[b][2], cells[b][1], cells[b][0], b);
     });
     const auto entries = static_cast<std::uint32_t>(s.cell_entries.size());
-    s.sorted.resize(4 * static_cast<std::size_t>(entries));
-    for (std::uint32_t e = 0; e < entries; ++e) {
-        const std::uint32_t i = s.cell_entries[e];
-        s.sorted[4 * e + 0] = x.c[0][i];
-        s.sorted[4 * e + 1] = x.c[1][i];
-        s.sorted[4 * e + 2] = x.c[2][i];
-        s.sorted[4 * e + 3] = radius[i];
-    }
+    gather_sorted(x, radius, entries, s);
     // The cells in entry order, for the searches.
     std::vector<std::array<double, 3>> by_entry(entries);
     for (std::uint32_t e = 0; e < entries; ++e) by_entry[e] = cells[s.cell_entries[e]];
