@@ -22,7 +22,7 @@ shift 2
 root=$(cd "$(dirname "$0")/../.." && pwd)
 
 if ! command -v clang++ >/dev/null 2>&1; then
-    echo "fuzz: skipped: clang++ not found (Debian: apt-get install clang libclang-rt-14-dev)"
+    echo "fuzz: skipped: clang++ not found (Debian: apt-get install clang libclang-rt-dev)"
     exit 77
 fi
 
