@@ -666,13 +666,16 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
 namespace {
 
 // SimplicialLDLT's symbolic half only: analyzePattern() orders the matrix and
-// counts the non-zeros of each column of L (protected in Eigen, hence the
-// subclass); factorize() is never called.
+// lays out L, whose column pointers then give the non-zeros of each column
+// below the unit diagonal (protected in Eigen, hence the subclass; read from
+// m_matrix, which Eigen 3.4 and 5 both fill so, not from 3.4's
+// m_nonZerosPerCol, which Eigen 5 dropped); factorize() is never called.
 struct SymbolicLDLT : Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> {
     double flops() const {
+        const auto* column = m_matrix.outerIndexPtr();
         double sum = 0.0;
-        for (Eigen::Index j = 0; j < m_nonZerosPerCol.size(); ++j) {
-            const double count = m_nonZerosPerCol[j] + 1.0;  // below the diagonal, and the diagonal
+        for (Eigen::Index j = 0; j < m_matrix.outerSize(); ++j) {
+            const double count = static_cast<double>(column[j + 1] - column[j]) + 1.0;  // and the diagonal
             sum += count * count;
         }
         return sum;
