@@ -31,7 +31,7 @@ struct SceneCheck {
     // Hashes are judged only on the golden's architecture; a golden without
     // "arch" (written before it was recorded) is taken as comparable.
     bool hashes_comparable() const { return arch_expected.empty() || arch_expected == arch_actual; }
-    double seconds = 0;                                        // s, wall time of the scene's check
+    double seconds = 0;  // s, wall time of the scene's check
 };
 
 const char* status_name(SceneCheck::Status status);

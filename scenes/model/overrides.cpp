@@ -82,7 +82,8 @@ void trim_checkpoints(toml::table& root, const std::vector<Override>& overrides)
     if (toml::array* checkpoints = root["checkpoints"].as_array(); shortened && frames && checkpoints) {
         for (std::size_t i = checkpoints->size(); i-- > 0;) {
             const auto* f = (*checkpoints)[i].as_integer();
-            if (f && f->get() > frames->get()) checkpoints->erase(checkpoints->begin() + static_cast<std::ptrdiff_t>(i));
+            if (f && f->get() > frames->get())
+                checkpoints->erase(checkpoints->begin() + static_cast<std::ptrdiff_t>(i));
         }
         if (checkpoints->empty()) checkpoints->push_back(frames->get());
     }

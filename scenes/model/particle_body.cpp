@@ -47,8 +47,9 @@ void refuse_links(const Section& s, const std::string& verb, std::size_t body_li
     s.reader().fail(&s.table(), s.path() + " " + verb + " " + std::to_string(body_links) + " links on " +
                                     std::to_string(nodes) + " nodes, " + std::to_string(links) +
                                     " in the scene with the bodies before it (springs, constraints and tethers), "
-                                    "about " + sim::format_value(std::round(links * kLinkBytes / 1e8) / 10.0) +
-                                    " GB at " + sim::format_value(kLinkBytes) + " bytes a link; at most " +
+                                    "about " +
+                                    sim::format_value(std::round(links * kLinkBytes / 1e8) / 10.0) + " GB at " +
+                                    sim::format_value(kLinkBytes) + " bytes a link; at most " +
                                     std::to_string(kMaxSprings) +
                                     " links in a scene, so that a run cannot run out of memory: fewer nodes, or "
                                     "fewer links a node (a cloth's shear and bend)");

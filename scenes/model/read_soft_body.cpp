@@ -33,7 +33,8 @@ void read_soft_bodies(SceneBuilder& b, const Section& top) {
             for (int dj = -1; dj <= 1; ++dj) {
                 for (int di = -1; di <= 1; ++di) {
                     if (!(dk > 0 || (dk == 0 && (dj > 0 || (dj == 0 && di > 0))))) continue;
-                    links += static_cast<std::size_t>((d.nx - std::abs(di)) * (d.ny - std::abs(dj)) * (d.nz - std::abs(dk)));
+                    links +=
+                        static_cast<std::size_t>((d.nx - std::abs(di)) * (d.ny - std::abs(dj)) * (d.nz - std::abs(dk)));
                 }
             }
         }

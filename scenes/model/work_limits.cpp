@@ -137,17 +137,17 @@ void refuse_sparse_solve(const SceneBuilder& b, const Section& top) {
     const double seconds = scene.step.substeps * (n * kSolveParticleSeconds + flops * kSparseFlopSeconds);
     if (seconds <= kMaxSecondsPerFrame) return;
     const toml::table* step = top.subtable("step");
-    b.r.fail(step != nullptr ? step->get("integrator") : nullptr,
-             "step.integrator = \"" + std::string(info.name) + "\" factors the springs' sparse system every substep: " +
-                 std::to_string(links.size()) + " springs on " + std::to_string(scene.model.particles.size()) +
-                 " particles make a factorization of " + sim::format_value(flops) + " flops (Eigen's symbolic count), x " +
-                 std::to_string(scene.step.substeps) + (scene.step.substeps == 1 ? " substep" : " substeps") + " at " +
-                 sim::format_value(kSparseFlopSeconds * 1e9) + " ns a flop and " +
-                 sim::format_value(kSolveParticleSeconds * 1e6) + " µs a particle: about " +
-                 sim::format_value(std::round(seconds)) + " s a frame; at most " +
-                 sim::format_value(kMaxSecondsPerFrame) +
-                 " s a frame, so that no run hangs for hours: an explicit integrator with substeps, link = "
-                 "\"constraints\", or fewer nodes");
+    b.r.fail(
+        step != nullptr ? step->get("integrator") : nullptr,
+        "step.integrator = \"" + std::string(info.name) + "\" factors the springs' sparse system every substep: " +
+            std::to_string(links.size()) + " springs on " + std::to_string(scene.model.particles.size()) +
+            " particles make a factorization of " + sim::format_value(flops) + " flops (Eigen's symbolic count), x " +
+            std::to_string(scene.step.substeps) + (scene.step.substeps == 1 ? " substep" : " substeps") + " at " +
+            sim::format_value(kSparseFlopSeconds * 1e9) + " ns a flop and " +
+            sim::format_value(kSolveParticleSeconds * 1e6) + " µs a particle: about " +
+            sim::format_value(std::round(seconds)) + " s a frame; at most " + sim::format_value(kMaxSecondsPerFrame) +
+            " s a frame, so that no run hangs for hours: an explicit integrator with substeps, link = "
+            "\"constraints\", or fewer nodes");
 }
 
 // What the rest of a substep costs, per unit, s, measured with `run --json`
@@ -158,12 +158,12 @@ void refuse_sparse_solve(const SceneBuilder& b, const Section& top) {
 // multiplied by the substeps and the solvers' iterations, which the file sets
 // with one number each: a million particles at 10,000 substeps is about a
 // minute a frame.
-constexpr double kParticleSeconds = 5e-9;      // a particle's force evaluation and update
-constexpr double kSpringSeconds = 12e-9;       // a spring's force evaluation
-constexpr double kConstraintSeconds = 30e-9;   // a distance constraint or tether, one iteration
-constexpr double kCollisionSeconds = 100e-9;   // a particle in the pair grid, with its candidates
-constexpr double kBodySeconds = 5e-6;          // a rigid body in ODE's step, with its contacts
-constexpr double kJointRowSeconds = 500e-9;    // a joint in one of quickstep's iterations
+constexpr double kParticleSeconds = 5e-9;     // a particle's force evaluation and update
+constexpr double kSpringSeconds = 12e-9;      // a spring's force evaluation
+constexpr double kConstraintSeconds = 30e-9;  // a distance constraint or tether, one iteration
+constexpr double kCollisionSeconds = 100e-9;  // a particle in the pair grid, with its candidates
+constexpr double kBodySeconds = 5e-6;         // a rigid body in ODE's step, with its contacts
+constexpr double kJointRowSeconds = 500e-9;   // a joint in one of quickstep's iterations
 
 // ODE's exact step (quickstep = false) solves each island of jointed bodies
 // as one dense LCP, about rows³: a chain of 100 ball-jointed links (300 rows)
@@ -228,7 +228,8 @@ FrameWork frame_work(const SceneDef& scene) {
     add(m.collisions.particle_particle ? n : 0.0, 1.0, kCollisionSeconds, "colliding particles");
     add(bodies, 1.0, kBodySeconds, "rigid bodies");
     add(joints, sweeps, kJointRowSeconds, "joints x " + sim::format_value(sweeps) + " iterations");
-    if (!m.rigid.settings.quickstep) add(lcp_rows_cubed(m.rigid), 1.0, kLcpRowCubedSeconds, "rows³ of ODE's exact step");
+    if (!m.rigid.settings.quickstep)
+        add(lcp_rows_cubed(m.rigid), 1.0, kLcpRowCubedSeconds, "rows³ of ODE's exact step");
     w.seconds *= scene.step.substeps;
     return w;
 }
