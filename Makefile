@@ -67,9 +67,8 @@ check-clang: deps
 
 # The scene loader's fuzzer (tools/fuzz): built with clang, ASan and UBSan
 # into build-fuzz/, run for FUZZ_SECONDS on the shipped and the malformed
-# scenes; what it finds lands in build-fuzz/findings/. .ci/run runs it for
-# 60 s after make test (its build, about 9 CPU-minutes, does not fit make
-# test's 10 minutes on 2 cores).
+# scenes; what it finds lands in build-fuzz/findings/. make test runs it for
+# 60 s (the test fuzz.smoke, in build/fuzz).
 FUZZ_SECONDS := 600
 fuzz: deps
 	FUZZ_JOBS=$(JOBS) sh tools/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz

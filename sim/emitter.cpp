@@ -2,8 +2,8 @@
 
 #include "sim/error.h"
 #include "sim/random.h"
+#include "sim/rotation.h"
 
-#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,7 @@ Vec3 launch_velocity(const Emitter& e, std::uint32_t k, std::int64_t n) {
     const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
     const double phi = 2.0 * std::numbers::pi * r.uniform();
     const Vec3 local(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t);
-    const Eigen::Quaterniond to_direction = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), e.direction);
+    const Eigen::Quaterniond to_direction = rotation_from_z(e.direction);
     const double speed = e.speed * (1.0 + e.speed_jitter * (2.0 * r.uniform() - 1.0));
     return speed * (to_direction * local);
 }

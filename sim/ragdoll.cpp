@@ -1,6 +1,7 @@
 #include "sim/ragdoll.h"
 
 #include "sim/error.h"
+#include "sim/rotation.h"
 
 #include <cmath>
 #include <numeric>
@@ -103,7 +104,7 @@ RagdollParts ragdoll_parts(const RagdollDef& d, int first_body) {
     const Vec3 pelvis = H * Vec3(kBones[0].cx, kBones[0].cy, kBones[0].cz);
     // Builder frame -> world: about the pelvis centre, then to d.position.
     auto place = [&](const Vec3& p) -> Vec3 { return d.position + q * (H * p - pelvis); };
-    const Eigen::Quaterniond z_to_y = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), Vec3::UnitY());
+    const Eigen::Quaterniond z_to_y = rotation_from_z(Vec3::UnitY());
     for (std::size_t k = 0; k < kRagdollBones; ++k) {
         const Bone& bone = kBones[k];
         BodyDef& b = out.bodies[k];

@@ -8,6 +8,7 @@
 // beyond the last joint. Changing the link length or the count moves
 // everything.
 #include "scenes/model/scene_builder.h"
+#include "sim/rotation.h"
 
 #include <set>
 
@@ -100,7 +101,7 @@ void read_chains(SceneBuilder& b, const Section& top) {
         const std::string name = s.string("name", "chain" + std::to_string(k) + "_", 64);
         const Color color = s.color("color", palette(k + 3));
         // The capsule's axis is its local z: the shortest turn from z to d.
-        const Eigen::Quaterniond along = Eigen::Quaterniond::FromTwoVectors(sim::Vec3::UnitZ(), c.direction);
+        const Eigen::Quaterniond along = sim::rotation_from_z(c.direction);
         const sim::Vec3 step = c.link_length * c.direction;  // m, joint to joint
         for (int i = 0; i < c.links; ++i) {
             const std::string link = name + std::to_string(i);

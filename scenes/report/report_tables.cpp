@@ -154,7 +154,7 @@ json peer_row(const PeerRow& r) {
     return row;
 }
 
-Table peers(const Findings& f) {
+Table peers_table(const Findings& f) {
     std::ostringstream csv;
     csv << "peer,problem,compared_with,fitted,ratio_ours_over_theirs,ratio_batch,batch_copies,"
            "ours_ns_per_copy_step,theirs_ns_per_copy_step\n";
@@ -222,7 +222,7 @@ void write_file(const fs::path& path, const std::string& text) {
 }
 
 void write_tables(const fs::path& dir, const Settings& settings, const Measurements& m, const Findings& f) {
-    const Table orders_table = orders(f), limits = stiff_spring(m), costs = scene_costs(m), peer_table = peers(f),
+    const Table orders_table = orders(f), limits = stiff_spring(m), costs = scene_costs(m), peer_table = peers_table(f),
                 map = stability_map(m.map);
     const GrowthFiles growth = growth_files(m.growth);
     write_file(dir / "orders.csv", orders_table.csv);

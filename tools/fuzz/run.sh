@@ -26,9 +26,13 @@ if ! command -v clang++ >/dev/null 2>&1; then
     exit 77
 fi
 
+# Each library as one unity translation unit (batch size 0): this build has
+# one job beside make test's other tests, so fewer, larger units cost least
+# (measured: 128 CPU-seconds against 209 in batches of eight).
 if [ ! -f "$build/build.ninja" ]; then
     cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLAUSIBLE_FUZZ=ON \
-        -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
+        -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+        -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=0 >/dev/null
 fi
 start=$(date +%s)
 cmake --build "$build" --target fuzz_scene -j "${FUZZ_JOBS:-1}"
