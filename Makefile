@@ -45,7 +45,7 @@ demo: build
 	@echo "demo: try the same scene in a window: build/plausible view $(DEMO_SCENE)"
 
 bench: build
-	build/bench_sim --benchmark_counters_tabular=true
+	build/bench_sim --benchmark_counters_tabular=true --benchmark_repetitions=3 --benchmark_enable_random_interleaving=true
 	build/bench_mass_spring --benchmark_counters_tabular=true
 	build/bench_rigid --benchmark_counters_tabular=true
 	build/bench_render --benchmark_counters_tabular=true

@@ -24,7 +24,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -340,7 +342,10 @@ void fixed_cost(benchmark::State& state, sim::Integrator id) {
 // --- the ratio table --------------------------------------------------------------------
 
 // Prints the usual console table, keeps per_particle_step of every run that
-// did its work, and at the end the ratios the targets are stated in.
+// did its work, and at the end the ratios the targets are stated in,
+// each of two medians: with --benchmark_repetitions=R (make bench: 3, with
+// --benchmark_enable_random_interleaving, so that a hand loop and its World
+// take turns under the same load) the median of the R repetitions.
 class RatioReporter : public benchmark::ConsoleReporter {
 public:
     using ConsoleReporter::ConsoleReporter;
@@ -349,7 +354,7 @@ public:
             const auto counter = run.counters.find("per_particle_step");
             if (failed(run)) failures_.push_back(run.benchmark_name());
             if (!failed(run) && run.run_type == Run::RT_Iteration && counter != run.counters.end()) {
-                seconds_[run.benchmark_name()] = counter->second.value;
+                samples_[run.benchmark_name()].push_back(counter->second.value);
             }
         }
         ConsoleReporter::ReportRuns(runs);
@@ -390,17 +395,27 @@ private:
             return run.error_occurred;
         }
     }
+    // The median of a benchmark's repetitions, s per particle-step (0: none ran).
+    double median(const std::string& name) const {
+        const auto it = samples_.find(name);
+        if (it == samples_.end() || it->second.empty()) return 0.0;
+        std::vector<double> v = it->second;
+        const std::size_t mid = v.size() / 2;
+        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+        if (v.size() % 2 == 1) return v[mid];
+        return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+    }
     void print_ratio(const std::string& top, const std::string& bottom, std::string_view a, std::string_view b,
                      std::size_t n) const {
-        const auto p = seconds_.find(top + std::string(a) + "/" + std::to_string(n));
-        const auto q = seconds_.find(bottom + std::string(b) + "/" + std::to_string(n));
-        if (p == seconds_.end() || q == seconds_.end() || q->second <= 0.0) {
+        const double p = median(top + std::string(a) + "/" + std::to_string(n));
+        const double q = median(bottom + std::string(b) + "/" + std::to_string(n));
+        if (p <= 0.0 || q <= 0.0) {
             std::printf("%12s", "-");
         } else {
-            std::printf("%12.2f", p->second / q->second);
+            std::printf("%12.2f", p / q);
         }
     }
-    std::map<std::string, double> seconds_;
+    std::map<std::string, std::vector<double>> samples_;
     std::vector<std::string> failures_;
 };
 
