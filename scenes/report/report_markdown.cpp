@@ -42,7 +42,8 @@ void orders(std::ostream& md, const Measurements& m, const Findings& f) {
     for (const Problem& p : m.problems) {
         md << "| " << p.name << " |";
         for (const IntegratorInfo& info : kMethods) {
-            const OrderFit& o = order_of(f, p.name, std::string(info.name));
+            const std::string method(info.name);  // named: GCC 16 takes a temporary argument for a dangling reference
+            const OrderFit& o = order_of(f, p.name, method);
             if (p.smooth && o.expected == 0) {
                 md << " exact |";
             } else if (!std::isfinite(o.fit.slope)) {
