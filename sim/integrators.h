@@ -55,6 +55,18 @@ struct StepArrays {
     // Run the loops' AVX2 builds (sim/cpu.h: the same bits), on a block of
     // more than a few particles; only where the CPU has AVX2.
     bool wide = false;
+    // The watchdog's per-particle rules (sim/watchdog.h, is_suspect), when the
+    // World asks for them: a fused pass (uniform field) applies them to each
+    // particle as it leaves the registers, adds the count to watch->suspects
+    // and sets watch->counted, instead of the World's pass over the block
+    // afterwards. Other paths leave it untouched, and the World counts.
+    struct Watch {
+        double max_speed2 = 0.0;  // m²/s²
+        double box = 0.0;         // m, the world box's half extent
+        std::size_t suspects = 0;
+        bool counted = false;
+    };
+    Watch* watch = nullptr;
 
     // Temporary k for this block, contents undefined.
     Vec3Span scratch(std::size_t k) const { return temporaries[k].span().block(0, x.n); }

@@ -506,6 +506,9 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     std::size_t suspects = 0;
     for (std::size_t first = 0; first < n; first += block) {
         const std::size_t count = std::min(block, n - first);
+        // The watchdog's per-particle rules: inside a fused pass where the
+        // method has one, else in a pass of their own below.
+        StepArrays::Watch watch{watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
         // Every member given (no zeroing first: this runs every substep).
         const StepArrays s{
             .first = first,
@@ -515,10 +518,11 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
             .x_prev = info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
             .memory_valid = memory_valid_,
             .temporaries = scratch_.data(),
-            .wide = wide_};
+            .wide = wide_,
+            .watch = watch_blocks ? &watch : nullptr};
         info.step(forces_, s, state_.t, h);
-        // The watchdog's per-particle rules while the block is still in cache.
-        if (watch_blocks) suspects += count_suspects(watchdog_, s.x, s.v);
+        // Else while the block is still in cache.
+        if (watch_blocks) suspects += watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
     }
     watched_suspects_ = watch_blocks ? std::optional<std::size_t>(suspects) : std::nullopt;
 
