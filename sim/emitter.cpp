@@ -4,7 +4,6 @@
 #include "sim/random.h"
 #include "sim/rotation.h"
 
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -130,14 +130,14 @@ struct FieldAcceleration {
 // rebuild (a std::bool_constant, so that no branch is left in the loop) says
 // that the memory is not valid and must be rebuilt first. kWatch: the
 // watchdog's per-particle rules on each particle's new x and v, counted into
-// *suspects (the rules only compare: no bits of the state change).
+// `watch` (StepArrays::watch; they only compare: no bit of the state changes).
 template <bool kQuadratic, bool kMemory, bool kFresh, bool kWatch, class Rule>
 void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                 double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
                 double* __restrict m2, const double* __restrict mass, const double* __restrict inv_mass, std::size_t n,
-                const UniformField& field, Rule rule, double max_speed2, double box,
-                std::size_t* __restrict suspects) {
+                const UniformField& field, Rule rule, StepArrays::Watch* __restrict watch) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c, c2 = field.c2;
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
     std::size_t count = 0;  // a count, not a bool, as in the watchdog's own loop: it stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         P3 x{x0[i], x1[i], x2[i]};
@@ -151,7 +151,7 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
         if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
         if constexpr (kWatch) count += is_suspect(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
     }
-    if constexpr (kWatch) *suspects = count;
+    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
 }
 
 // Runs `rule` on every particle of the block when the force is a uniform
@@ -160,22 +160,18 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
 template <bool kQuadratic, bool kMemory, class Rule>
 void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const double* mass, const double* inv_mass,
                     const UniformField& field, Rule rule) {
-    StepArrays::Watch* watch = s.watch;
-    std::size_t suspects = 0;
     auto run = [&](auto fresh_constant, auto watch_constant) {
         run_at_width(
             wide_loops(s),
             [](auto... a) {
-                field_loop<kQuadratic, kMemory, decltype(fresh_constant)::value, decltype(watch_constant)::value,
-                           Rule>(a...);
+                field_loop<kQuadratic, kMemory, decltype(fresh_constant)::value, decltype(watch_constant)::value, Rule>(
+                    a...);
             },
             s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], mass,
-            inv_mass, s.x.n, field, rule, watch ? watch->max_speed2 : 0.0, watch ? watch->box : 0.0, &suspects);
+            inv_mass, s.x.n, field, rule, s.watch);
     };
-    if (watch != nullptr) {
+    if (s.watch != nullptr) {
         fresh ? run(std::true_type{}, std::true_type{}) : run(std::false_type{}, std::true_type{});
-        watch->suspects += suspects;
-        watch->counted = true;
     } else {
         fresh ? run(std::true_type{}, std::false_type{}) : run(std::false_type{}, std::false_type{});
     }

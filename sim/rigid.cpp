@@ -328,8 +328,7 @@ void RigidWorld::add_static(const Collider& collider) {
                 const Vec3 axis = c.b - c.a;
                 const double length = axis.norm();
                 const Eigen::Matrix3d R =
-                    length > 0.0 ? rotation_from_z(axis / length).toRotationMatrix()
-                                 : Eigen::Matrix3d::Identity();
+                    length > 0.0 ? rotation_from_z(axis / length).toRotationMatrix() : Eigen::Matrix3d::Identity();
                 place(dCreateCapsule(m.space, c.radius, length), 0.5 * (c.a + c.b), R);
             }
         },

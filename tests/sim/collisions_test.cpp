@@ -142,6 +142,19 @@ TEST(Collisions, ManyParticlesInAHeapNeverOverlapMuchAndAreDeterministic) {
     }
 }
 
+// 1000 pairs of particles of radius r into x[0, 2000), overlapping by 0.1 %
+// of their reach and pointing every way, on a lattice 10 cm apart (each pair
+// shifted by up to 5 cm more when `jitter`), so that no two pairs touch.
+void scatter_pairs(Vec3Array& x, double r, Random& random, bool jitter) {
+    for (int k = 0; k < 1000; ++k) {
+        Vec3 centre = 0.1 * Vec3(k % 10, (k / 10) % 10, k / 100);  // m
+        if (jitter) centre += Vec3(random.uniform(0.0, 0.05), random.uniform(0.0, 0.05), random.uniform(0.0, 0.05));
+        const Vec3 half = (0.999 * r) * random.unit_vector();  // m: centres 0.999 (2 r) apart
+        x.set(2 * k, centre - half);
+        x.set(2 * k + 1, centre + half);
+    }
+}
+
 TEST(Collisions, TheGridFindsEveryOverlapAcrossCellFaces) {
     // 1000 pairs of particles (r = 1 cm) overlapping by 0.1 % of their reach,
     // pointing every way, scattered over a lattice 10 cm apart (so the pairs
@@ -153,13 +166,7 @@ TEST(Collisions, TheGridFindsEveryOverlapAcrossCellFaces) {
     Random random(5);
     Vec3Array x0(2000), x(2000), v(2000);
     std::vector<double> radius(2000, r), inv_mass(2000, 1.0);
-    for (int k = 0; k < 1000; ++k) {
-        const Vec3 jitter(random.uniform(0.0, 0.05), random.uniform(0.0, 0.05), random.uniform(0.0, 0.05));  // m
-        const Vec3 centre = 0.1 * Vec3(k % 10, (k / 10) % 10, k / 100) + jitter;
-        const Vec3 half = (0.999 * r) * random.unit_vector();  // m: centres 0.999 (2 r) apart
-        x.set(2 * k, centre - half);
-        x.set(2 * k + 1, centre + half);
-    }
+    scatter_pairs(x, r, random, true);
     x0 = x;
     Collisions pairs;
     pairs.particle_particle = true;
@@ -179,12 +186,7 @@ TEST(Collisions, AFarOutlierDoesNotCrowdThePairGrid) {
     Random random(5);
     Vec3Array x0(2001), x(2001), v(2001);
     std::vector<double> radius(2001, r), inv_mass(2001, 1.0);
-    for (int k = 0; k < 1000; ++k) {
-        const Vec3 centre = 0.1 * Vec3(k % 10, (k / 10) % 10, k / 100);
-        const Vec3 half = (0.999 * r) * random.unit_vector();  // m: centres 0.999 (2 r) apart
-        x.set(2 * k, centre - half);
-        x.set(2 * k + 1, centre + half);
-    }
+    scatter_pairs(x, r, random, false);
     x.set(2000, Vec3(9000, 9000, 9000));
     x0 = x;
     Collisions pairs;
