@@ -50,7 +50,11 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
         }
         has_field_ = true;
     }
-    if (others_.size() == 1) central_only_ = std::get_if<CentralGravity>(others_[0]);
+    if (others_.size() == 1) {
+        central_only_ = std::get_if<CentralGravity>(others_[0]);
+        const auto* springs = std::get_if<Springs>(others_[0]);
+        if (springs != nullptr && plans_[0].few) few_springs_ = springs;
+    }
 }
 
 void ParticleForces::set_wide(bool wide) {
@@ -189,10 +193,29 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
     to_acceleration(*central_only_, in, a, !has_field_, wide_);
 }
 
+// One particle on one spring (the report's oscillators), a few beads on a
+// few springs: on so small a system the general path's dispatch (the
+// generator list, the plan, the spring clock, the widths) costs as much as
+// the force. The same operations on each particle as that path: the field or
+// zero, the reference spring loop, then M⁻¹, one particle at a time.
+void ParticleForces::few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const {
+    if (has_field_) {
+        field_pass(in, a, false);
+    } else {
+        zero(a);
+    }
+    accumulate(*few_springs_, in, a);
+    scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
+}
+
 void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                                   const Vec3Span& a) {
     const ForceInput in = input(t, first, x, v);
     particle_evaluations_ += x.n;
+    if (few_springs_ != nullptr && x.n <= kFew && spring_time_ == nullptr) {
+        few_spring_acceleration(in, a);
+        return;
+    }
     if (others_.empty() && has_field_) {
         field_pass(in, a, true);  // one pass: force and M⁻¹ together
         return;

@@ -84,6 +84,8 @@ private:
     void add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;  // the same, inlined
     // a = M⁻¹ (field + central_only_'s force), in one or two passes.
     void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
+    // a = M⁻¹ (field + few_springs_'s force) on a few particles.
+    void few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const;
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every
@@ -100,7 +102,11 @@ private:
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;
     const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
-    bool wide_ = false;                             // the passes' AVX2 builds (the same bits), where the CPU has it
+    // The one generator outside the field, if a Springs of a few springs (the
+    // reference loop's): on a few particles its acceleration goes straight
+    // through it (few_spring_acceleration), without the general dispatch.
+    const Springs* few_springs_ = nullptr;
+    bool wide_ = false;  // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
     SpringTime* spring_time_ = nullptr;
     using SpringClock = std::chrono::steady_clock;

@@ -428,37 +428,42 @@ inline void field_runge_kutta(P3& x, P3& v, const Accel& accel, double h, std::i
 
 // The array path's stage I: X_I = x + Σ_J (h a_IJ) V_J and V_I = v + Σ_J
 // (h a_IJ) A_J over the non-zero a_IJ, J ascending, in one pass over the
-// particles. A few particles go one at a time; more go component by
-// component, vectorised.
+// particles per component. The arrays' pointers are held in locals (read
+// through the spans, they are reloaded every iteration: most of a
+// few-particle stage, and the loop is not vectorised); ivdep: the stage
+// arrays never overlap x or v (scratch, or v itself for a stage that is the
+// state, only read).
+#if defined(__clang__)
+#define PLAUSIBLE_IVDEP _Pragma("clang loop vectorize(assume_safety)")
+#else
+#define PLAUSIBLE_IVDEP _Pragma("GCC ivdep")
+#endif
 
 template <const auto& kTableau, std::size_t I, std::size_t... J>
 void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
                  [[maybe_unused]] double h, std::index_sequence<J...>) {
-    auto point = [&](int k, std::size_t p) {
-        double X = s.x.c[k][p], V = s.v.c[k][p];
-        ((kTableau.a[I][J] != 0.0 ? void((X += (h * kTableau.a[I][J]) * stage_v[J].c[k][p],
-                                          V += (h * kTableau.a[I][J]) * stage_a[J].c[k][p]))
-                                  : void()),
-         ...);
-        stage_x.c[k][p] = X;
-        stage_v[I].c[k][p] = V;
-    };
-    if (s.x.n <= kFewParticles) {
-        for (std::size_t p = 0; p < s.x.n; ++p) {
-            for (int k = 0; k < 3; ++k) point(k, p);
-        }
-        return;
-    }
     for (int k = 0; k < 3; ++k) {
-        for (std::size_t p = 0; p < s.x.n; ++p) point(k, p);
+        const double* x = s.x.c[k];
+        const double* v = s.v.c[k];
+        double* X = stage_x.c[k];
+        double* V = stage_v[I].c[k];
+        [[maybe_unused]] const double* sv[] = {stage_v[J].c[k]..., nullptr};
+        [[maybe_unused]] const double* sa[] = {stage_a[J].c[k]..., nullptr};
+        PLAUSIBLE_IVDEP
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            double Xp = x[p], Vp = v[p];
+            ((kTableau.a[I][J] != 0.0
+                  ? void((Xp += (h * kTableau.a[I][J]) * sv[J][p], Vp += (h * kTableau.a[I][J]) * sa[J][p]))
+                  : void()),
+             ...);
+            X[p] = Xp;
+            V[p] = Vp;
+        }
     }
 }
 
 // The step's pass: x' = x + Σ_i (h b_i) V_i, v' = v + Σ_i (h b_i) A_i, i
-// ascending. Many particles go component by component, the arrays' pointers
-// held in locals (read through the spans, they are reloaded every iteration
-// and the loop is not vectorised); ivdep: the stage arrays never overlap x
-// or v (scratch, or v itself for a stage that is the state, only read).
+// ascending, component by component, pointers in locals as above.
 template <const auto& kTableau>
 void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     constexpr std::size_t S = std::size(kTableau.b);
@@ -472,19 +477,7 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
         const double* sv[S];
         const double* sa[S];
         for (std::size_t i = 0; i < S; ++i) sv[i] = stage_v[i].c[k], sa[i] = stage_a[i].c[k];
-        if (s.x.n <= kFewParticles) {
-            for (std::size_t p = 0; p < s.x.n; ++p) {
-                double X = x[p], V = v[p];
-                sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
-                x[p] = X, v[p] = V;
-            }
-            continue;
-        }
-#if defined(__clang__)
-#pragma clang loop vectorize(assume_safety)
-#else
-#pragma GCC ivdep
-#endif
+        PLAUSIBLE_IVDEP
         for (std::size_t p = 0; p < s.x.n; ++p) {
             double X = x[p], V = v[p];
             sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
@@ -492,6 +485,7 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
         }
     }
 }
+#undef PLAUSIBLE_IVDEP
 
 // Stage I's pass and the step's, at the block's width. The lambdas take
 // their data as arguments, not captures: read through a closure, the loops
