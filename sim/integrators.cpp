@@ -55,18 +55,32 @@ constexpr std::size_t kFewParticles = 16;
 // Whether this block's loops run their AVX2 builds.
 bool wide_loops(const StepArrays& s) { return s.wide && s.x.n > kFewParticles; }
 
-// y += alpha x, for every component of every point.
-void axpy_loop(double* __restrict y0, double* __restrict y1, double* __restrict y2, const double* __restrict x0,
-               const double* __restrict x1, const double* __restrict x2, std::size_t n, double alpha) {
+// The last kick of leapfrog and velocity Verlet, v += alpha a, with the
+// watchdog's per-particle rules on each particle's final x and v when kWatch
+// (counted into `watch`, as the fused loops do: the World then needs no pass
+// of its own over the block).
+template <bool kWatch>
+void kick_loop(const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
+               double* __restrict v0, double* __restrict v1, double* __restrict v2, const double* __restrict a0,
+               const double* __restrict a1, const double* __restrict a2, std::size_t n, double alpha,
+               StepArrays::Watch* __restrict watch) {
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
+    std::size_t count = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
-        y0[i] += alpha * x0[i];
-        y1[i] += alpha * x1[i];
-        y2[i] += alpha * x2[i];
+        v0[i] += alpha * a0[i];
+        v1[i] += alpha * a1[i];
+        v2[i] += alpha * a2[i];
+        if constexpr (kWatch) count += is_suspect(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
     }
+    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
 }
-void axpy(bool wide, const Vec3Span& y, double alpha, const Vec3Span& x) {
-    run_at_width(
-        wide, [](auto... a) { axpy_loop(a...); }, y.c[0], y.c[1], y.c[2], x.c[0], x.c[1], x.c[2], y.n, alpha);
+void last_kick(const StepArrays& s, double alpha, const Vec3Span& a) {
+    auto run = [&](auto watch_constant) {
+        run_at_width(
+            wide_loops(s), [](auto... p) { kick_loop<decltype(watch_constant)::value>(p...); }, s.x.c[0], s.x.c[1],
+            s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], a.c[0], a.c[1], a.c[2], s.x.n, alpha, s.watch);
+    };
+    s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
 }
 
 // Leapfrog's kick and drift: v += (h/2) a, then x += h v.
@@ -186,11 +200,13 @@ struct GivenAcceleration {
     P3 operator()(P3) const { return a; }
 };
 
-template <bool kMemory, bool kFresh, class Rule>
+template <bool kMemory, bool kFresh, bool kWatch, class Rule>
 void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                 double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
                 double* __restrict m2, const double* __restrict a0, const double* __restrict a1,
-                const double* __restrict a2, std::size_t n, Rule rule) {
+                const double* __restrict a2, std::size_t n, Rule rule, StepArrays::Watch* __restrict watch) {
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
+    std::size_t count = 0;
     for (std::size_t i = 0; i < n; ++i) {
         P3 x{x0[i], x1[i], x2[i]};
         P3 v{v0[i], v1[i], v2[i]};
@@ -200,26 +216,36 @@ void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict
         x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
         v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
         if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
+        if constexpr (kWatch) count += is_suspect(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
     }
+    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
 }
 
 // Runs `rule` on every particle of the block with the acceleration `a`
-// evaluated before. `memory`: the method's memory span, or an empty one.
+// evaluated before, the watchdog's rules inside where s.watch is set.
+// `memory`: the method's memory span, or an empty one.
 template <class Rule>
 void given_acceleration_pass(const StepArrays& s, Vec3Span memory, ConstVec3Span a, Rule rule) {
-    auto run = [&](auto has_memory, auto fresh) {
+    auto run = [&](auto has_memory, auto fresh, auto watch) {
         run_at_width(
             wide_loops(s),
-            [](auto... p) { given_loop<decltype(has_memory)::value, decltype(fresh)::value, Rule>(p...); }, s.x.c[0],
-            s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], a.c[0], a.c[1],
-            a.c[2], s.x.n, rule);
+            [](auto... p) {
+                given_loop<decltype(has_memory)::value, decltype(fresh)::value, decltype(watch)::value, Rule>(p...);
+            },
+            s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], a.c[0],
+            a.c[1], a.c[2], s.x.n, rule, s.watch);
     };
-    const bool fresh = !s.memory_valid;
-    if (memory.n == 0) {
-        fresh ? run(std::false_type{}, std::true_type{}) : run(std::false_type{}, std::false_type{});
-    } else {
-        fresh ? run(std::true_type{}, std::true_type{}) : run(std::true_type{}, std::false_type{});
-    }
+    auto with_memory = [&](auto has_memory) {
+        const bool fresh = !s.memory_valid, watch = s.watch != nullptr;
+        if (fresh) {
+            watch ? run(has_memory, std::true_type{}, std::true_type{})
+                  : run(has_memory, std::true_type{}, std::false_type{});
+        } else {
+            watch ? run(has_memory, std::false_type{}, std::true_type{})
+                  : run(has_memory, std::false_type{}, std::false_type{});
+        }
+    };
+    memory.n == 0 ? with_memory(std::false_type{}) : with_memory(std::true_type{});
 }
 
 template <class Rule>
@@ -314,7 +340,7 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
         wide_loops(s), [](auto... a) { kick_drift_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1],
         s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
     dynamics.acceleration(t + h, s.first, s.x, s.v, s.a);
-    axpy(wide_loops(s), s.v, 0.5 * h, s.a);
+    last_kick(s, 0.5 * h, s.a);
 }
 
 // Velocity Verlet, order 2:
@@ -342,7 +368,7 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
         s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0], v_predicted.c[1], v_predicted.c[2], s.x.n,
         h);
     dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
-    axpy(wide_loops(s), s.v, 0.5 * h, s.a);
+    last_kick(s, 0.5 * h, s.a);
 }
 
 // Position (Störmer) Verlet, order 2:

@@ -191,13 +191,14 @@ TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
     }
 }
 
-// The watchdog's per-particle rules run block by block inside the
-// integrator's pass when no later stage moves a particle (inside each
-// method's fused loop, a uniform field being the whole force here). A
-// far-away ground plane (never reached) makes the same cloud take the full
-// pass after the collisions stage: both must reach the same verdict, frame,
-// particle and value, for a particle in the last, partial block, with every
-// integrator.
+// The watchdog's per-particle rules run inside the integrator's last pass
+// when no later stage moves a particle: each method's fused loop where a
+// uniform field is the whole force (block by block), its array path's last
+// pass otherwise (here a spring of zero stiffness makes the force more than
+// the field: the same motion, the array path). A far-away ground plane
+// (never reached) makes the same cloud take the full pass after the
+// collisions stage: both must reach the same verdict, frame, particle and
+// value, for a particle in the last, partial block, with every integrator.
 TEST(Watchdog, ChecksInsideTheIntegratorsPassFindWhatTheFullPassFinds) {
     struct Case {
         const char* quantity;
@@ -207,30 +208,34 @@ TEST(Watchdog, ChecksInsideTheIntegratorsPassFindWhatTheFullPassFinds) {
         for (const Case& c : {Case{"speed", Vec3(0.0, 0.0, 0.0), Vec3(0.0, -499.0, 0.0)},
                               Case{"bounds", Vec3(9999.5, 0.0, 0.0), Vec3(20.0, 0.0, 0.0)},
                               Case{"non-finite", Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 0.0)}}) {
-            ParticleModel model = cloud(false);
-            model.forces = {UniformGravity{}};
-            model.particles[1400].position = c.x;
-            model.particles[1400].velocity = c.v;
-            ParticleModel watched_after = model;
-            watched_after.collisions.colliders.push_back(PlaneCollider{Vec3::UnitY(), -5000.0});
-            World inside(model), after(watched_after);
-            const std::string what = std::string(method.name) + ", " + c.quantity;
-            for (int i = 0; i < 60; ++i) {
-                if (i == 30 && std::string_view(c.quantity) == "non-finite") {
-                    // A NaN that only the per-particle rules can see (the loader never lets one in).
-                    inside.edit_state().v.set(1400, Vec3(0.0, std::nan(""), 0.0));
-                    after.edit_state().v.set(1400, Vec3(0.0, std::nan(""), 0.0));
+            for (const bool array_path : {false, true}) {
+                ParticleModel model = cloud(false);
+                model.forces = {UniformGravity{}};
+                if (array_path) model.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
+                model.particles[1400].position = c.x;
+                model.particles[1400].velocity = c.v;
+                ParticleModel watched_after = model;
+                watched_after.collisions.colliders.push_back(PlaneCollider{Vec3::UnitY(), -5000.0});
+                World inside(model), after(watched_after);
+                const std::string what =
+                    std::string(method.name) + ", " + c.quantity + (array_path ? ", array path" : ", fused");
+                for (int i = 0; i < 60; ++i) {
+                    if (i == 30 && std::string_view(c.quantity) == "non-finite") {
+                        // A NaN that only the per-particle rules can see (the loader never lets one in).
+                        inside.edit_state().v.set(1400, Vec3(0.0, std::nan(""), 0.0));
+                        after.edit_state().v.set(1400, Vec3(0.0, std::nan(""), 0.0));
+                    }
+                    inside.step({method.id, 1.0 / 60.0, 1});
+                    after.step({method.id, 1.0 / 60.0, 1});
                 }
-                inside.step({method.id, 1.0 / 60.0, 1});
-                after.step({method.id, 1.0 / 60.0, 1});
-            }
-            ASSERT_TRUE(inside.verdict().exploded()) << what;
-            EXPECT_EQ(inside.verdict().index, 1400u) << what;
-            EXPECT_EQ(inside.verdict().quantity, after.verdict().quantity) << what;
-            EXPECT_EQ(inside.verdict().frame, after.verdict().frame) << what;
-            if (std::string_view(c.quantity) != "non-finite") {
-                EXPECT_EQ(inside.verdict().quantity, c.quantity) << what;
-                EXPECT_EQ(inside.verdict().value, after.verdict().value) << what << ", bit-exact";
+                ASSERT_TRUE(inside.verdict().exploded()) << what;
+                EXPECT_EQ(inside.verdict().index, 1400u) << what;
+                EXPECT_EQ(inside.verdict().quantity, after.verdict().quantity) << what;
+                EXPECT_EQ(inside.verdict().frame, after.verdict().frame) << what;
+                if (std::string_view(c.quantity) != "non-finite") {
+                    EXPECT_EQ(inside.verdict().quantity, c.quantity) << what;
+                    EXPECT_EQ(inside.verdict().value, after.verdict().value) << what << ", bit-exact";
+                }
             }
         }
     }
