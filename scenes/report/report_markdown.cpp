@@ -231,9 +231,9 @@ void peer_summary(std::ostream& md, const Findings& f) {
         md << ". There the cost is in our force and integrator passes, not in the World's overhead (the "
               "last column: nanoseconds per copy and step).";
         if (springs_over) {
-            md << " A spring is an index record: the spring generator's loop for rest length 0 goes one "
-                  "spring at a time, reading both ends through their indices and adding the force back to "
-                  "each (the shared anchor's too), where odeint computes -x over contiguous arrays.";
+            md << " Our oscillators are beads on springs to one pinned anchor: the spring pass computes each "
+                  "spring's force into a scratch array, then sums it at each bead, and M⁻¹ is a pass of its "
+                  "own, three passes where odeint computes -x in one (the anchor's own sum is left out).";
         }
         md << '\n';
     }
