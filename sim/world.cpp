@@ -390,6 +390,7 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
             watch();
             laps.lap(times_.watchdog);
         }
+        if (substep_observer_) substep_observer_(i);
     }
 }
 

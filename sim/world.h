@@ -14,7 +14,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace sim {
@@ -94,6 +96,13 @@ public:
     // (a stage the model does not use costs nothing). Throws InputError for
     // bad settings. Once the watchdog has a verdict, does nothing.
     void step(const StepSettings& settings);
+
+    // Called after each substep of step(), once its stages (the watchdog's
+    // too) have run, with the substep's number from 0: where a caller looks
+    // at the state between substeps (`check` hashes it to say which substep
+    // of a frame first differs). Empty: none (the default). It must not
+    // step or edit the World.
+    void set_substep_observer(std::function<void(int substep)> observer) { substep_observer_ = std::move(observer); }
 
     // The watchdog (on by default with WatchdogLimits{}). Setting limits
     // validates them (InputError) and takes the current energy as E0.
@@ -258,6 +267,7 @@ private:
     double initial_energy_ = 0.0;                  // J, E0 for the watchdog's energy rule
     Verdict verdict_;
     std::vector<Contained> contained_;
+    std::function<void(int)> substep_observer_;  // set_substep_observer
     std::uint64_t frames_ = 0;
     SystemTimes times_;
     double timer_cost_ = 0.0;        // s, what the clocks of the sampled frames cost

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <optional>
 
 namespace scenes {
 namespace {
@@ -100,6 +102,7 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
     if (previous.contains("thresholds_reason")) golden["thresholds_reason"] = previous["thresholds_reason"];
     render::write_png(dir / (scene.name + ".png"), strip.image);
     render::write_file_atomically(dir / (scene.name + ".json"), golden.dump(2) + "\n");
+    render::write_file_atomically(dir / (scene.name + ".hashes"), format_run_hashes(strip.record));
 }
 
 }  // namespace
@@ -116,8 +119,25 @@ Filmstrip run_filmstrip(const SceneDef& scene, render::Renderer* renderer, const
     std::vector<std::string> labels;
     const render::RenderSettings render_settings{
         .width = settings.width, .height = settings.height, .msaa_samples = settings.msaa};
+    const std::vector<SceneObject> objects = scene_objects(scene);
+    strip.record.substeps = scene.step.substeps;
+    for (const SceneObject& object : objects) strip.record.objects.push_back(object.name);
+    std::vector<std::uint64_t> substeps;  // the state hash after each substep of the last frame
+    auto keep_frame = [&] {
+        FrameRecord f{.hash = run.state_hash(), .substeps = {}};
+        for (std::size_t k = 0; k + 1 < substeps.size(); ++k) {
+            f.substeps.push_back(static_cast<std::uint16_t>(substeps[k] >> 48));
+        }
+        strip.record.frames.push_back(std::move(f));
+        if (object_grid_frame(run.frame(), scene.checkpoints)) {
+            strip.record.object_hashes[run.frame()] = run.object_hashes(objects);
+        }
+    };
+    keep_frame();
     for (int checkpoint : scene.checkpoints) {
-        while (run.frame() < checkpoint && run.advance()) {
+        while (run.frame() < checkpoint && !run.verdict().exploded()) {
+            run.advance(substeps);
+            keep_frame();
         }
         if (renderer != nullptr) {
             tiles.push_back(renderer->render(run.draw_list(settings.width, settings.height), render_settings));
@@ -157,15 +177,17 @@ namespace {
 // A scene's golden files: the filmstrip PNG and its JSON (checkpoint hashes,
 // thresholds, the renderer's fingerprint), read when both are there.
 struct Golden {
-    fs::path png, json_file;
+    fs::path png, json_file, hashes_file;
     bool present = false;
-    json previous = json::object();  // the JSON as read; empty when absent
+    json previous = json::object();   // the JSON as read; empty when absent
+    std::optional<RunHashes> frames;  // golden/<scene>.hashes as read; none when absent
 };
 
 Golden read_golden(const fs::path& golden_dir, const std::string& scene) {
     Golden g;
     g.png = golden_dir / (scene + ".png");
     g.json_file = golden_dir / (scene + ".json");
+    g.hashes_file = golden_dir / (scene + ".hashes");
     g.present = fs::exists(g.png) && fs::exists(g.json_file);
     if (!g.present) return g;
     try {
@@ -174,7 +196,35 @@ Golden read_golden(const fs::path& golden_dir, const std::string& scene) {
     } catch (const json::exception& e) {
         throw SceneError(g.json_file.string() + ": not valid JSON: " + e.what());
     }
+    if (fs::exists(g.hashes_file)) {
+        std::ifstream in(g.hashes_file, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        g.frames = parse_run_hashes(text, g.hashes_file.string());
+    }
     return g;
+}
+
+// Where the physics first changed, from the golden's frame-by-frame hashes:
+// the frame, its substep and time, and the objects that differ.
+void compare_frames(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip, const Golden& golden) {
+    c.substeps = scene.step.substeps;
+    if (!golden.frames) {
+        c.hashes_note = "no " + golden.hashes_file.string() +
+                        " (the frame-by-frame hashes): only the checkpoints are compared; `plausible check " +
+                        scene.name + " --update missing` writes it";
+        return;
+    }
+    const HashChange change = locate_change(*golden.frames, strip.record);
+    if (change.frame < 0) return;
+    c.changed_frame = change.frame;
+    c.changed_substep = change.substep;
+    // Frames are of a fixed dt (check never changes it): the end of the substep.
+    const double done = change.frame == 0    ? 0.0
+                        : change.substep < 0 ? change.frame
+                                             : change.frame - 1 + static_cast<double>(change.substep + 1) / c.substeps;
+    c.changed_time = done * scene.step.dt;
+    c.objects_frame = change.objects_frame;
+    c.changed_objects = group_changed(change.objects, scene_objects(scene));
 }
 
 // Each checkpoint's state hash against the golden's, and the first that
@@ -238,13 +288,37 @@ void judge_exploded(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip
         "side.png", render::side_by_side(expected, strip.image, c.image->diff, render::Font::default_font()));
 }
 
-// "physics changed at checkpoint i (frame f): state hash differs", for the
-// first checkpoint whose hash differs.
+// "physics changed at frame 1, substep 2 of 4 (t = 0.004 s): rope", from the
+// frame-by-frame hashes; without them, the first checkpoint whose hash differs.
 std::string physics_changed(const SceneCheck& c, const Filmstrip& strip) {
+    std::string text;
+    if (c.changed_frame >= 0) {
+        text = "physics changed at frame " + std::to_string(c.changed_frame);
+        if (c.changed_frame == 0) text += " (the start)";
+        if (c.changed_frame > 0 && c.substeps > 1 && c.changed_substep >= 0) {
+            text += ", substep " + std::to_string(c.changed_substep + 1) + " of " + std::to_string(c.substeps);
+        }
+        char t[48];
+        std::snprintf(t, sizeof t, " (t = %.4g s)", c.changed_time);
+        text += t;
+        if (c.objects_frame >= 0) {
+            std::string names;
+            for (const std::string& name : c.changed_objects) names += (names.empty() ? "" : ", ") + name;
+            text += names.empty() ? ": no named object differs" : ": " + names;
+            if (c.objects_frame != c.changed_frame) {
+                text += " (objects compared at frame " + std::to_string(c.objects_frame) + ", the first kept)";
+            }
+        }
+    }
     const int i = c.first_hash_mismatch;
-    const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
-    return "physics changed at checkpoint " + std::to_string(i) + " (frame " + std::to_string(frame) +
-           "): state hash differs";
+    if (i >= 0) {
+        const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+        text += (text.empty() ? "physics changed at " : "; state hash differs from ") + std::string("checkpoint ") +
+                std::to_string(i) + " (frame " + std::to_string(frame) + ")";
+        if (c.changed_frame < 0) text += ": state hash differs";
+    }
+    if (!c.hashes_note.empty()) text += "; " + c.hashes_note;
+    return text;
 }
 
 // Why the state hashes were not judged: the golden was made on another
@@ -296,7 +370,7 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
     const bool another_renderer = drawn_by_another_renderer(golden.previous, fingerprint);
     if (another_renderer) thresholds = render::for_another_renderer(thresholds);
     c.image = render::compare_golden(strip.image, expected, thresholds);
-    const bool physics_same = c.first_hash_mismatch < 0;
+    const bool physics_same = c.first_hash_mismatch < 0 && c.changed_frame < 0;
     const bool pass = c.image->pass && physics_same;
     if (!c.hashes_comparable()) {
         c.message = (c.image->pass ? "image " : "image changed: ") + c.image->summary + "; " + not_comparable(c);
@@ -316,6 +390,12 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
         write_golden(scene, strip, fingerprint, golden_dir, golden.previous);
         c.status = SceneCheck::Status::updated;
         c.message = "golden rewritten (" + c.message + ")";
+    } else if (pass && !golden.frames && c.hashes_comparable() && options.update == UpdateMode::missing) {
+        // A golden from before the frame-by-frame hashes: what is missing is written, nothing else.
+        fs::create_directories(golden_dir);
+        render::write_file_atomically(golden.hashes_file, format_run_hashes(strip.record));
+        c.status = SceneCheck::Status::updated;
+        c.message = "frame-by-frame hashes written: " + golden.hashes_file.string() + " (" + c.message + ")";
     } else if (pass) {
         c.status = SceneCheck::Status::pass;
     } else {
@@ -338,7 +418,7 @@ void judge_physics(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
                     "; run the full check, which compares the images";
         return;
     }
-    if (c.first_hash_mismatch < 0) {
+    if (c.first_hash_mismatch < 0 && c.changed_frame < 0) {
         c.status = SceneCheck::Status::pass;
         c.message = "state hashes identical (physics only: images not compared)";
         return;
@@ -366,6 +446,7 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
         const Golden golden = read_golden(golden_dir, scene.name);
         c.arch_expected = golden.previous.value("arch", "");
         if (c.hashes_comparable()) compare_hashes(c, strip, golden.previous);
+        if (c.hashes_comparable() && golden.present) compare_frames(c, scene, strip, golden);
         if (golden.previous.contains("fingerprint")) {
             c.fingerprint_expected = golden.previous["fingerprint"].value("summary", "");
         }

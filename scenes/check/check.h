@@ -6,6 +6,7 @@
 #include "render/golden.h"
 #include "render/renderer.h"
 #include "scenes/check/check_report.h"
+#include "scenes/check/frame_hashes.h"
 #include "scenes/model/scene.h"
 
 #include <filesystem>
@@ -21,6 +22,7 @@ struct Filmstrip {
     std::vector<double> times;        // s
     std::vector<std::string> hashes;  // hex state hash at each
     sim::Verdict verdict;             // exploded: the run stopped at verdict.frame
+    RunHashes record;                 // every frame's hash, up to the last checkpoint (golden/<scene>.hashes)
 };
 
 struct FilmstripSettings {

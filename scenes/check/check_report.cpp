@@ -63,6 +63,18 @@ nlohmann::json to_json(const SceneCheck& c) {
             {{"frame", h.frame}, {"expected", h.expected}, {"actual", h.actual}, {"same", h.expected == h.actual}});
     }
     j["hashes"] = hashes;
+    // Where the physics first changed (the golden's frame-by-frame hashes).
+    if (c.changed_frame >= 0) {
+        j["physics_change"] = {{"frame", c.changed_frame},
+                               {"substep", c.changed_substep >= 0 ? nlohmann::json(c.changed_substep + 1) : nullptr},
+                               {"substeps", c.substeps},
+                               {"time", c.changed_time},
+                               {"objects_frame", c.objects_frame >= 0 ? nlohmann::json(c.objects_frame) : nullptr},
+                               {"objects", c.changed_objects}};
+    } else {
+        j["physics_change"] = nullptr;
+    }
+    if (!c.hashes_note.empty()) j["frame_hashes_note"] = c.hashes_note;
     if (c.image) {
         const render::GoldenDiff& d = *c.image;
         j["image"] = {{"identical", d.identical},
@@ -120,6 +132,19 @@ std::string scene_html(const SceneCheck& c) {
       << escape(c.scene) << "<span class=\"status\">" << status_name(c.status)
       << "</span></h2>\n<div class=\"message\">" << escape(c.message) << "</div>\n";
     if (c.image) h << "<div>image: " << escape(c.image->summary) << "</div>\n";
+    if (c.changed_frame >= 0) {
+        h << "<table><tr><th>physics first changed at</th><th>substep</th><th>t (s)</th><th>objects that differ"
+          << (c.objects_frame >= 0 ? " (at frame " + std::to_string(c.objects_frame) + ")" : "")
+          << "</th></tr>\n<tr class=\"differs\"><td>frame " << c.changed_frame << "</td><td>"
+          << (c.changed_substep >= 0 ? std::to_string(c.changed_substep + 1) + " of " + std::to_string(c.substeps)
+                                     : "-")
+          << "</td><td>" << c.changed_time << "</td><td>";
+        for (std::size_t k = 0; k < c.changed_objects.size(); ++k) {
+            h << (k == 0 ? "" : ", ") << escape(c.changed_objects[k]);
+        }
+        if (c.objects_frame >= 0 && c.changed_objects.empty()) h << "(no named object)";
+        h << "</td></tr>\n</table>\n";
+    }
     if (failed(c.status) && !c.hashes.empty()) {
         h << "<table><tr><th>checkpoint</th><th>frame</th><th>expected hash</th><th>actual hash</th></tr>\n";
         for (std::size_t i = 0; i < c.hashes.size(); ++i) {

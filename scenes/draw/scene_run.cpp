@@ -57,6 +57,43 @@ void SceneRun::record() {
     }
 }
 
+bool SceneRun::advance(std::vector<std::uint64_t>& substep_hashes) {
+    substep_hashes.clear();
+    world_.set_substep_observer([&](int) { substep_hashes.push_back(state_hash()); });
+    const bool running = advance();
+    world_.set_substep_observer({});
+    return running;
+}
+
+std::vector<std::uint32_t> SceneRun::object_hashes(const std::vector<SceneObject>& objects) const {
+    const sim::ParticleState& state = world_.state();
+    const sim::RigidWorld* rigid = world_.rigid();
+    std::vector<sim::BodyId> bodies;  // by model.rigid.bodies index (a removed body's stays invalid)
+    for (const sim::BodyId id : rigid != nullptr ? rigid->bodies() : std::vector<sim::BodyId>{}) {
+        if (id.index >= bodies.size()) bodies.resize(id.index + 1);
+        bodies[id.index] = id;
+    }
+    std::vector<std::uint32_t> hashes;
+    for (const SceneObject& object : objects) {
+        sim::Fnv1a h;
+        for (std::size_t i = object.first; i < object.first + object.count; ++i) {
+            if (!object.rigid && i < state.size()) {
+                for (const sim::Vec3& value : {state.x.get(i), state.v.get(i)}) {
+                    for (int k = 0; k < 3; ++k) h.add(value[k]);
+                }
+            } else if (object.rigid && i < bodies.size() && bodies[i].index == i) {
+                const sim::BodyState body = rigid->state(bodies[i]);
+                for (const sim::Vec3& value : {body.position, body.velocity, body.angular_velocity}) {
+                    for (int k = 0; k < 3; ++k) h.add(value[k]);
+                }
+                for (int k = 0; k < 4; ++k) h.add(body.orientation.coeffs()[k]);
+            }
+        }
+        hashes.push_back(static_cast<std::uint32_t>(h.value()));
+    }
+    return hashes;
+}
+
 std::uint64_t SceneRun::state_hash() const {
     const std::uint64_t particles = sim::state_hash(world_.state());
     // Rigid bodies folded in, so that either part changing changes the hash.

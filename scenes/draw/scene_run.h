@@ -24,6 +24,10 @@ public:
 
     // One frame step (World::step). False once the watchdog has stopped the run.
     bool advance();
+    // The same, keeping the state hash after each substep in `substep_hashes`
+    // (the last is the frame's, state_hash()): where `check` looks for the
+    // first substep that differs.
+    bool advance(std::vector<std::uint64_t>& substep_hashes);
 
     const sim::StepSettings& step() const { return step_; }
     void set_step(const sim::StepSettings& step);  // validates (InputError)
@@ -50,6 +54,11 @@ public:
     const sim::Verdict& verdict() const { return world_.verdict(); }
     std::uint64_t state_hash() const;
     std::string state_hash_hex() const;
+    // One hash per object (scene_objects' order) of its state now: FNV-1a over
+    // its particles' x and v, or its rigid bodies' position, orientation,
+    // velocity and angular velocity; the low 32 bits (for naming what
+    // changed, not for judging: the state hash judges).
+    std::vector<std::uint32_t> object_hashes(const std::vector<SceneObject>& objects) const;
 
     // The picture now, for an image of width x height px (overlays are laid
     // out in pixels).

@@ -116,6 +116,7 @@ void read_chains(SceneBuilder& b, const Section& top) {
             body.orientation = along;
             m.bodies.push_back(body);
             b.scene.body_names.push_back(link);
+            b.scene.body_groups.push_back(name);
             b.scene.body_colors.push_back(color);
             // Joint i, at the link's upper end: to the world (the first, when
             // fixed) or to the link before.

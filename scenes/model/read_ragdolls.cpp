@@ -65,6 +65,7 @@ void read_ragdolls(SceneBuilder& b, const Section& top) {
                 s.fail("name", "must be unique: " + quote(bone_name) + " is taken");
             m.bodies.push_back(made.bodies[i]);
             b.scene.body_names.push_back(bone_name);
+            b.scene.body_groups.push_back(name);
             b.scene.body_colors.push_back(bone_color(color, bone));
         }
         m.joints.insert(m.joints.end(), made.joints.begin(), made.joints.end());

@@ -74,6 +74,7 @@ void read_rigid_bodies(SceneBuilder& b, const Section& top) {
             s.fail("name", "must be unique: " + quote(name) + " is taken");
         b.scene.model.rigid.bodies.push_back(body);
         b.scene.body_names.push_back(name);
+        b.scene.body_groups.emplace_back();
         b.scene.body_colors.push_back(s.color("color", palette(k + 2)));
     }
 }

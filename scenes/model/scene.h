@@ -103,6 +103,7 @@ struct SceneDef {
     std::vector<std::size_t> drawn_springs;   // model.forces indices of [[forces.springs]], drawn as rods
     std::vector<Color> collider_colors;       // one per model.collisions.colliders entry
     std::vector<std::string> body_names;      // one per model.rigid.bodies entry
+    std::vector<std::string> body_groups;     // one per model.rigid.bodies entry: its ragdoll or chain, "" for none
     std::vector<Color> body_colors;
     sim::StepSettings step;
     int frames = 600;              // frame steps the scene runs
@@ -118,6 +119,23 @@ struct SceneDef {
     // The systems this scene builds, for `run --json` ("particles", "springs", ...).
     std::vector<std::string> systems() const;
 };
+
+// A named thing in a scene, for saying which one changed (`check`): a rope,
+// cloth, soft body, emitter, named particle (or named group of particles),
+// or rigid body (a ragdoll's bone or a chain's link grouped under its
+// ragdoll or chain).
+struct SceneObject {
+    std::string name;       // as the scene names it: "rope", "emitter0", "ragdoll1.pelvis"
+    std::string group;      // the ragdoll or chain of a rigid body; "" for none
+    bool rigid = false;     // true: rigid bodies [first, first + count), else particles
+    std::size_t first = 0;  // index of the first particle or model.rigid.bodies entry
+    std::size_t count = 0;
+};
+// Every object of the scene, in a fixed order: the bodies (ropes, cloths,
+// soft bodies), the emitters, the named particles outside them (a group
+// "name[0]", "name[1]", ... as one object "name"), then the rigid bodies.
+// Unnamed particles belong to no object.
+std::vector<SceneObject> scene_objects(const SceneDef& scene);
 
 // "KEY=VALUE" overrides applied to the file before validation, with the same
 // checks (and their errors say "--set KEY").

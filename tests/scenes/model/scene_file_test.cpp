@@ -57,6 +57,55 @@ TEST(SceneFile, ParsesWhatItSays) {
     EXPECT_EQ(s.systems(), (std::vector<std::string>{"particles", "springs", "watchdog"}));
 }
 
+// The objects `check` names: bodies, emitters, named particles (a group's
+// members as one), rigid bodies with their ragdoll; unnamed particles none.
+TEST(SceneFile, ObjectsAreTheNamedThingsInSceneOrder) {
+    const SceneDef s = parse_scene(R"(
+description = "One of each kind of object."
+[[particles]]
+name = "lone"
+position = [0, 1, 0]
+[[particles]]
+position = [0, 2, 0]
+[[groups]]
+name = "drops"
+count = 3
+start = [0, 3, 0]
+[[ropes]]
+name = "line"
+start = [0, 5, 0]
+end = [1, 5, 0]
+segments = 4
+[[emitters]]
+name = "jet"
+count = 10
+[[bodies]]
+name = "crate"
+shape = "box"
+size = [1, 1, 1]
+position = [3, 1, 0]
+[[ragdolls]]
+name = "r0"
+position = [5, 1, 0]
+)",
+                                   "objects.toml");
+    const std::vector<SceneObject> objects = scene_objects(s);
+    std::vector<std::string> names;
+    for (const SceneObject& o : objects) names.push_back(o.name);
+    ASSERT_GE(names.size(), 7u);
+    EXPECT_EQ(std::vector<std::string>(names.begin(), names.begin() + 6),
+              (std::vector<std::string>{"line", "jet", "lone", "drops", "crate", "r0.pelvis"}));
+    EXPECT_EQ(objects[1].count, 10u) << "the emitter's particles";
+    EXPECT_EQ(objects[3].count, 3u) << "drops[0] .. drops[2], one object";
+    EXPECT_EQ(objects[0].count, 5u) << "a rope of 4 segments has 5 particles";
+    EXPECT_TRUE(objects[4].rigid);
+    EXPECT_EQ(objects[4].group, "");
+    for (std::size_t k = 5; k < objects.size(); ++k) {
+        EXPECT_EQ(objects[k].group, "r0") << objects[k].name;
+        EXPECT_TRUE(objects[k].rigid);
+    }
+}
+
 TEST(SceneFile, OscillatorGhostIsTheClosedFormAboutTheAnchor) {
     const SceneDef s = parse_scene(kSpring, "spring.toml");
     ASSERT_EQ(s.ghosts.size(), 1u);
