@@ -481,11 +481,21 @@ std::vector<SceneCheck> run_checks(const std::vector<std::string>& names, const 
     for (const std::string& name : names) {
         results.push_back(check_scene(name, overrides, options, renderer, fingerprint, golden_dir, report_dir));
     }
-    write_check_report(report_dir, results);
+    write_check_report(report_dir, results, options.shard);
     return results;
 }
 
 }  // namespace
+
+std::vector<std::string> shard_of(const std::vector<std::string>& names, int index, int count) {
+    if (count < 1 || index < 1 || index > count) {
+        throw sim::InputError("--shard " + std::to_string(index) + "/" + std::to_string(count) +
+                              ": I/N needs N >= 1 and 1 <= I <= N");
+    }
+    const std::size_t m = names.size(), i = static_cast<std::size_t>(index), n = static_cast<std::size_t>(count);
+    return {names.begin() + static_cast<std::ptrdiff_t>((i - 1) * m / n),
+            names.begin() + static_cast<std::ptrdiff_t>(i * m / n)};
+}
 
 std::vector<SceneCheck> check_scenes(const std::vector<std::string>& names, const std::vector<Override>& overrides,
                                      const CheckOptions& options, render::Renderer& renderer,

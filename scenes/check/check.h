@@ -41,7 +41,14 @@ struct CheckOptions {
     UpdateMode update = UpdateMode::none;
     std::filesystem::path golden_dir;  // default_golden_dir() unless set (check --golden)
     std::filesystem::path report_dir;  // out/check unless set
+    ShardInfo shard;                   // the report says which part of a sharded check it is
 };
+
+// The index-th (from 1) of `count` equal parts of `names`, in their order
+// (as Playwright's --shard): part sizes differ by at most one; a part may
+// be empty when there are more parts than names. InputError unless
+// 1 <= index <= count.
+std::vector<std::string> shard_of(const std::vector<std::string>& names, int index, int count);
 
 // The shipped goldens: data_dir()/golden (the source tree's golden/, or the
 // installed share/plausible/golden).

@@ -201,12 +201,20 @@ const char* status_name(SceneCheck::Status status) {
     return "?";
 }
 
-void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scenes) {
+void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scenes, const ShardInfo& shard) {
     std::error_code error;
     fs::create_directories(dir, error);
     if (error || !fs::is_directory(dir)) throw std::runtime_error("cannot write the report into " + dir.string());
     nlohmann::json report = {{"scenes", nlohmann::json::array()}};
     for (const SceneCheck& c : scenes) report["scenes"].push_back(to_json(c));
+    const std::string shard_line =
+        shard.count == 0 ? ""
+                         : "shard " + std::to_string(shard.index) + " of " + std::to_string(shard.count) + ": " +
+                               std::to_string(scenes.size()) + " of the " + std::to_string(shard.of) + " scenes";
+    report["shard"] =
+        shard.count == 0
+            ? nlohmann::json(nullptr)
+            : nlohmann::json{{"index", shard.index}, {"count", shard.count}, {"scenes_in_all_shards", shard.of}};
 
     int counts[6] = {};
     for (const SceneCheck& c : scenes) ++counts[static_cast<int>(c.status)];
@@ -216,7 +224,9 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
     std::ostringstream html;
     html << "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Plausible golden "
             "check</title><style>"
-         << kStyle << "</style></head><body>\n<h1>Plausible golden check</h1>\n<div class=\"counts\">";
+         << kStyle << "</style></head><body>\n<h1>Plausible golden check</h1>\n";
+    if (!shard_line.empty()) html << "<div class=\"hint\">" << escape(shard_line) << "</div>\n";
+    html << "<div class=\"counts\">";
     for (auto s : {SceneCheck::Status::pass, SceneCheck::Status::fail, SceneCheck::Status::exploded,
                    SceneCheck::Status::missing, SceneCheck::Status::error, SceneCheck::Status::updated}) {
         html << "<span>" << status_name(s) << ": " << counts[static_cast<int>(s)] << "</span>";

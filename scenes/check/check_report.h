@@ -46,8 +46,17 @@ struct SceneCheck {
 
 const char* status_name(SceneCheck::Status status);
 
+// Which part of a sharded check a report is (check --shard I/N): its scenes
+// are the I-th of N equal parts of `of` scenes. count 0: not sharded.
+struct ShardInfo {
+    int index = 0;  // from 1
+    int count = 0;
+    int of = 0;  // scenes in all the shards
+};
+
 // Writes <dir>/report.json and <dir>/index.html, each atomically. Throws
 // std::runtime_error naming the path when the folder cannot be written.
-void write_check_report(const std::filesystem::path& dir, const std::vector<SceneCheck>& scenes);
+void write_check_report(const std::filesystem::path& dir, const std::vector<SceneCheck>& scenes,
+                        const ShardInfo& shard = {});
 
 }  // namespace scenes

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 namespace scenes::cli {
 
@@ -21,7 +22,18 @@ struct CheckArgs {
     std::string golden;   // empty: the shipped goldens (default_golden_dir)
     std::string backend;  // set by add_backend_option: render::default_backend()
     bool physics_only = false;
+    std::string shard;  // "I/N"; empty: every scene
 };
+
+// "I/N" -> (I, N); the range is shard_of's to check.
+std::pair<int, int> parse_shard(const std::string& text) {
+    int index = 0, count = 0;
+    char slash = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &index, &slash, &count, &extra) != 3 || slash != '/') {
+        throw sim::InputError("--shard must be I/N, the I-th of N parts, e.g. 2/4 (got '" + text + "')");
+    }
+    return {index, count};
+}
 
 UpdateMode parse_update(const std::string& text) {
     if (text == "none") return UpdateMode::none;
@@ -48,7 +60,12 @@ int check(const CheckArgs& a) {
         }
         o.golden_dir = a.golden;
     }
-    const std::vector<std::string> names = a.scenes.empty() ? catalog() : a.scenes;
+    std::vector<std::string> names = a.scenes.empty() ? catalog() : a.scenes;
+    if (!a.shard.empty()) {
+        const auto [index, count] = parse_shard(a.shard);
+        o.shard = {.index = index, .count = count, .of = static_cast<int>(names.size())};
+        names = shard_of(names, index, count);
+    }
     std::vector<SceneCheck> results;
     if (a.physics_only) {
         results = check_physics(names, overrides, o);
@@ -64,6 +81,9 @@ int check(const CheckArgs& a) {
         errors += c.status == SceneCheck::Status::error ? 1 : 0;
         failed += !ok && c.status != SceneCheck::Status::error ? 1 : 0;
         std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), status_name(c.status), c.message.c_str(), c.seconds);
+    }
+    if (o.shard.count > 0) {
+        std::printf("shard %d of %d: %zu of the %d scenes\n", o.shard.index, o.shard.count, results.size(), o.shard.of);
     }
     std::printf("%d passed, %d failed, %d errors; report: %s\n", passed, failed, errors,
                 (std::filesystem::path(a.report) / "index.html").c_str());
@@ -84,6 +104,9 @@ Command add_check(CLI::App& app) {
     cmd->add_option("--report", args->report, "Folder for the report (index.html, report.json, images)")
         ->capture_default_str();
     add_backend_option(cmd, &args->backend);
+    cmd->add_option("--shard", args->shard,
+                    "Check only the I-th of N equal parts of the scenes, I/N (e.g. 2/4: a CI matrix of 4 machines); "
+                    "the report covers that part alone");
     cmd->add_flag("--physics-only", args->physics_only,
                   "Compare state hashes only: nothing rendered, no GL (fast; e.g. under an emulated CPU)");
     return {cmd, [args] { return check(*args); }};

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -200,6 +201,41 @@ TEST(CheckPhysics, JudgesTheStateHashesAloneAndWritesNoGolden) {
 
     options.update = UpdateMode::changed;
     EXPECT_THROW(check_physics({"ballistic"}, {}, options), sim::InputError);
+}
+
+// check --shard I/N: the N parts cover every scene once, in order, their
+// sizes within one of each other (some empty when N exceeds the scenes);
+// a shard's report holds its scenes alone and says which part it is.
+TEST(CheckShard, TheShardsCoverEverySceneOnceInEqualParts) {
+    const std::vector<std::string> all = catalog();
+    for (int n : {1, 2, 3, 4, 7, 21, 30}) {
+        std::vector<std::string> joined;
+        std::size_t smallest = all.size(), largest = 0;
+        for (int i = 1; i <= n; ++i) {
+            const std::vector<std::string> part = shard_of(all, i, n);
+            joined.insert(joined.end(), part.begin(), part.end());
+            smallest = std::min(smallest, part.size());
+            largest = std::max(largest, part.size());
+        }
+        EXPECT_EQ(joined, all) << n << " shards";
+        EXPECT_LE(largest - smallest, 1u) << n << " shards";
+    }
+    for (auto [i, n] : {std::pair{0, 3}, std::pair{4, 3}, std::pair{1, 0}, std::pair{-1, -1}}) {
+        EXPECT_THROW(shard_of(all, i, n), sim::InputError) << i << "/" << n;
+    }
+
+    const fs::path report = results("shard");
+    CheckOptions options{.report_dir = report, .shard = {.index = 2, .count = 3, .of = 6}};
+    const std::vector<std::string> six = {"ballistic", "oscillator", "orbit", "pendulum", "rope-stiff", "explosion"};
+    const auto r = check_physics(shard_of(six, 2, 3), {}, options);
+    ASSERT_EQ(r.size(), 2u);
+    EXPECT_EQ(r[0].scene, "orbit");
+    EXPECT_EQ(r[1].scene, "pendulum");
+    std::ifstream in(report / "report.json");
+    const json j = json::parse(in);
+    EXPECT_EQ(j.at("scenes").size(), 2u);
+    EXPECT_EQ(j.at("shard").at("index"), 2);
+    EXPECT_EQ(j.at("shard").at("count"), 3);
 }
 
 // A golden drawn by another renderer (another Mesa, LLVM or GPU) is judged
