@@ -34,10 +34,13 @@ struct RunArgs {
 // renamed at the end, so that an error or Ctrl+C leaves nothing behind.
 class CsvWriter {
 public:
-    explicit CsvWriter(std::string path) : path_(std::move(path)), temp_(path_ + ".tmp-" + std::to_string(getpid())) {
+    // bodies: the scene has rigid bodies, whose rows carry their orientation
+    // and angular velocity in seven more columns (empty on particle rows).
+    CsvWriter(std::string path, bool bodies)
+        : path_(std::move(path)), temp_(path_ + ".tmp-" + std::to_string(getpid())), bodies_(bodies) {
         out_.open(temp_, std::ios::binary);
         if (!out_) throw sim::InputError("--csv: cannot write " + path_);
-        out_ << "frame,time,kind,id,x,y,z,vx,vy,vz\n";
+        out_ << "frame,time,kind,id,x,y,z,vx,vy,vz" << (bodies_ ? ",qw,qx,qy,qz,wx,wy,wz" : "") << '\n';
         out_.precision(17);
     }
     ~CsvWriter() {
@@ -51,11 +54,19 @@ public:
 
     void rows(const SceneRun& run) {
         const sim::ParticleState& s = run.world().state();
-        for (std::size_t i = 0; i < s.size(); ++i) row(run.frame(), s.t, "particle", i, s.x.get(i), s.v.get(i));
+        for (std::size_t i = 0; i < s.size(); ++i) {
+            row(run.frame(), s.t, "particle", i, s.x.get(i), s.v.get(i));
+            out_ << (bodies_ ? ",,,,,,,\n" : "\n");
+        }
         if (const sim::RigidWorld* rigid = run.world().rigid()) {
             const auto bodies = rigid->body_states();
             for (std::size_t k = 0; k < bodies.size(); ++k) {
-                row(run.frame(), s.t, "body", k, bodies[k].position, bodies[k].velocity);
+                const sim::BodyState& b = bodies[k];
+                row(run.frame(), s.t, "body", k, b.position, b.velocity);
+                const Eigen::Quaterniond& q = b.orientation;
+                const sim::Vec3& w = b.angular_velocity;
+                out_ << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << w.x() << ',' << w.y()
+                     << ',' << w.z() << '\n';
             }
         }
     }
@@ -73,9 +84,10 @@ public:
 private:
     void row(int frame, double t, const char* kind, std::size_t id, const sim::Vec3& x, const sim::Vec3& v) {
         out_ << frame << ',' << t << ',' << kind << ',' << id << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
-             << v.x() << ',' << v.y() << ',' << v.z() << '\n';
+             << v.x() << ',' << v.y() << ',' << v.z();
     }
     std::string path_, temp_;
+    bool bodies_ = false;
     std::ofstream out_;
 };
 
@@ -231,7 +243,7 @@ int run_scene(const RunArgs& args) {
     // remove it (a run without --csv writes nothing and keeps the default).
     std::optional<InterruptScope> interrupts;
     std::optional<CsvWriter> csv;
-    if (args.csv) interrupts.emplace(), csv.emplace(*args.csv);
+    if (args.csv) interrupts.emplace(), csv.emplace(*args.csv, !scene.model.rigid.bodies.empty());
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr);
     if (csv) csv->commit();
     const Summary summary{
@@ -252,7 +264,11 @@ Command add_run(CLI::App& app) {
     run->add_option("scene", args->scene.scene, "Scene name (see `plausible list`) or path of a .toml file")
         ->required();
     args->scene.add_to(run);
-    run->add_option("--csv", args->csv, "Write frame,time,kind,id,x,y,z,vx,vy,vz per object per frame");
+    run->add_option("--csv", args->csv,
+                    "Write frame,time,kind,id,x,y,z,vx,vy,vz per particle and rigid body per frame (s, m, m/s; a "
+                    "body's x is its centre of mass); with rigid bodies also qw,qx,qy,qz,wx,wy,wz: a body's "
+                    "orientation (unit quaternion, body to world) and angular velocity (rad/s, world frame), "
+                    "empty on particle rows");
     run->add_flag("--json", args->json,
                   "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
                   "of frames (every frame at first, then enough to keep the clocks under 1% of the step; a step "
