@@ -46,6 +46,10 @@ Command add_view(CLI::App& app) {
     cmd->add_option("--exit-after", args->options.exit_after,
                     "Show N frames, one scene step each (no wall clock), then exit");
     cmd->add_option("--screenshot", args->screenshot, "Save the window's last frame as this PNG on exit");
+    cmd->add_option("--input", args->options.input,
+                    "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
+                    "Right', '5 move @Scene parameters', '6 press left'; see scenes/view/input_script.h); the "
+                    "scene then steps once per drawn frame while running");
     return {cmd, [args] { return view(*args); }};
 }
 

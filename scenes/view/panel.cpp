@@ -14,22 +14,30 @@ void Viewer::panel_run_controls() {
     if (run_->verdict().exploded()) {
         ImGui::TextColored(ImVec4(0.9f, 0.1f, 0.1f, 1), "%s", run_->verdict().message(def_->name).c_str());
     }
-    if (ImGui::Button(paused_ ? "Resume (Space)" : "Pause (Space)")) paused_ = !paused_;
+    const char* pause = paused_ ? "Resume (Space)" : "Pause (Space)";
+    if (ImGui::Button(pause)) paused_ = !paused_;
+    note_item(pause);
     ImGui::SameLine();
     if (ImGui::Button("Step")) step_once();
+    note_item("Step");
     ImGui::SameLine();
     ImGui::BeginDisabled(history_.empty());
     if (ImGui::Button("Back")) step_back();
+    note_item("Back");
     ImGui::EndDisabled();
     ImGui::SameLine();
     if (ImGui::Button("Reset")) reset();
+    note_item("Reset");
     ImGui::Text("%zu stored states to step back through", history_.size());
     ImGui::SliderFloat("speed", &time_scale_, 1.0f / 64.0f, 4.0f, "%.3fx", ImGuiSliderFlags_Logarithmic);
+    note_item("speed");
 }
 
 // The integrator, dt and substeps; a refused change is shown in red.
 void Viewer::panel_step() {
-    if (!ImGui::CollapsingHeader("Step", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const bool open = ImGui::CollapsingHeader("Step", ImGuiTreeNodeFlags_DefaultOpen);
+    note_item("Step (header)");
+    if (!open) return;
     sim::StepSettings step = run_->step();
     bool changed = false;
     const char* current = sim::integrator_info(step.integrator).name.data();
@@ -42,13 +50,16 @@ void Viewer::panel_step() {
         }
         ImGui::EndCombo();
     }
+    note_item("integrator");
     auto dt_ms = static_cast<float>(1e3 * step.dt);
     constexpr ImGuiSliderFlags kClamp = ImGuiSliderFlags_AlwaysClamp;  // typed values too
     if (ImGui::SliderFloat("dt (ms)", &dt_ms, 0.1f, 100.0f, "%.2f", ImGuiSliderFlags_Logarithmic | kClamp)) {
         step.dt = 1e-3 * dt_ms;
         changed = true;
     }
+    note_item("dt (ms)");
     if (ImGui::SliderInt("substeps", &step.substeps, 1, 64, "%d", kClamp)) changed = true;
+    note_item("substeps");
     if (changed) {
         try {
             run_->set_step(step);
@@ -60,7 +71,9 @@ void Viewer::panel_step() {
 
 // Drawing only: the run goes on as it was.
 void Viewer::panel_overlays() {
-    if (!ImGui::CollapsingHeader("Overlays")) return;
+    const bool open = ImGui::CollapsingHeader("Overlays");
+    note_item("Overlays");
+    if (!open) return;
     // Drawing only: the run goes on as it was.
     View& v = def_->view;
     ImGui::Checkbox("title and numbers", &v.hud);
@@ -79,7 +92,10 @@ void Viewer::panel_overlays() {
 
 // The scene file's numbers as sliders; a change rebuilds the scene from the file.
 void Viewer::panel_parameters() {
-    if (parameters_.empty() || !ImGui::CollapsingHeader("Scene parameters")) return;
+    if (parameters_.empty()) return;
+    const bool open = ImGui::CollapsingHeader("Scene parameters");
+    note_item("Scene parameters");
+    if (!open) return;
     ImGui::TextWrapped("The scene file's numbers; changing one rebuilds the scene from the file.");
     for (std::size_t k = 0; k < parameters_.size(); ++k) {
         const double v = parameters_[k].value;
@@ -89,6 +105,7 @@ void Viewer::panel_parameters() {
         const bool log = v > 0 && !parameters_[k].integer;
         ImGui::SliderFloat(parameters_[k].key.c_str(), &edited_[k], lo, hi, parameters_[k].integer ? "%.0f" : "%.4g",
                            log ? ImGuiSliderFlags_Logarithmic : 0);
+        note_item(parameters_[k].key);
         if (ImGui::IsItemDeactivatedAfterEdit()) rebuild();  // on release: one rebuild per change
         ImGui::PopID();
     }
@@ -97,7 +114,9 @@ void Viewer::panel_parameters() {
 
 // Live plots: energy, each system's ms per frame step, rendering.
 void Viewer::panel_plots() {
-    if (!ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const bool open = ImGui::CollapsingHeader("Plots", ImGuiTreeNodeFlags_DefaultOpen);
+    note_item("Plots");
+    if (!open) return;
     const auto e = energy_.data();
     char label[64];
     std::snprintf(label, sizeof label, "E = %.5g J", e.empty() ? 0.0 : e.back());
@@ -113,6 +132,11 @@ void Viewer::panel_plots() {
     const auto r = render_ms_.data();
     std::snprintf(label, sizeof label, "%.1f ms/frame", r.empty() ? 0.0 : r.back());
     ImGui::PlotLines("rendering", r.data(), static_cast<int>(r.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
+}
+
+void Viewer::note_item(const std::string& label) {
+    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
+    items_[label] = {a.x, a.y, b.x, b.y};
 }
 
 void Viewer::panel_ui() {

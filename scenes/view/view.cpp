@@ -6,6 +6,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/renderer.h"
+#include "scenes/view/input_script.h"
 #include "scenes/view/viewer.h"
 
 #define GLFW_INCLUDE_NONE
@@ -13,6 +14,11 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
+
+#include <array>
+#include <optional>
+#include <utility>
+#include <vector>
 
 namespace scenes {
 namespace {
@@ -57,20 +63,30 @@ void cursor_in_pixels(GLFWwindow* window, double& x, double& y, int& w, int& h) 
     y *= wh > 0 ? static_cast<double>(h) / wh : 1.0;
 }
 
-void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
-    // Shortcuts work while the panel has focus, except when it is taking typed text.
-    if (action == GLFW_RELEASE || (viewer_of(window)->panel() && ImGui::GetIO().WantTextInput)) return;
+// A key pressed: to the viewer. Shortcuts work while the panel has focus,
+// except when it is taking typed text.
+void key_down(GLFWwindow* window, int key) {
+    if (viewer_of(window)->panel() && ImGui::GetIO().WantTextInput) return;
     guarded(window, [&](Viewer& v) { v.key(key); });
 }
 
-void on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
-    if (action == GLFW_PRESS && panel_has_mouse(window)) return;
-    double x = 0, y = 0;
+void on_key(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods*/) {
+    if (action != GLFW_RELEASE) key_down(window, key);
+}
+
+// A mouse button at (x, y), window coordinates: to the viewer, unless it is
+// pressed on the panel.
+void mouse_button(GLFWwindow* window, int button, bool down, double x, double y, bool shift) {
+    if (down && panel_has_mouse(window)) return;
     int w = 0, h = 0;
-    glfwGetCursorPos(window, &x, &y);
     cursor_in_pixels(window, x, y, w, h);
-    guarded(window,
-            [&](Viewer& v) { v.mouse_button(button, action == GLFW_PRESS, x, y, w, h, (mods & GLFW_MOD_SHIFT) != 0); });
+    guarded(window, [&](Viewer& v) { v.mouse_button(button, down, x, y, w, h, shift); });
+}
+
+void on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
+    double x = 0, y = 0;
+    glfwGetCursorPos(window, &x, &y);
+    mouse_button(window, button, action == GLFW_PRESS, x, y, (mods & GLFW_MOD_SHIFT) != 0);
 }
 
 void on_cursor(GLFWwindow* window, double x, double y) {
@@ -101,6 +117,136 @@ void validate(const ViewOptions& o) {
     }
 }
 
+// Plays an input script (view/input_script.h) frame by frame: to the viewer
+// as the window's callbacks deliver input, and to the panel as ImGui's GLFW
+// backend would report it (so that it needs no focus, no real cursor and no
+// wall clock).
+class ScriptPlayer {
+public:
+    explicit ScriptPlayer(std::vector<view::InputEvent> events) : events_(std::move(events)) {}
+
+    // The events of drawn frame `frame`, to the viewer; the keys of the last
+    // frame come up.
+    void to_viewer(GLFWwindow* window, int frame) {
+        keys_.clear();
+        for (const int key : held_) keys_.push_back({key, false});
+        held_.clear();
+        ctrl_ = shift_ = false;
+        for (; next_ < events_.size() && events_[next_].frame == frame; ++next_) play(window, events_[next_]);
+    }
+
+    // This frame's cursor, buttons, keys and text, to ImGui: after its GLFW
+    // backend's NewFrame (which would report the real cursor), before
+    // ImGui::NewFrame.
+    void to_panel() {
+        ImGuiIO& io = ImGui::GetIO();
+#if IMGUI_VERSION_NUM >= 18700
+        io.AddMousePosEvent(static_cast<float>(x_), static_cast<float>(y_));
+        for (int b = 0; b < 3; ++b) io.AddMouseButtonEvent(b, down_[b]);
+#if IMGUI_VERSION_NUM >= 18900
+        io.AddKeyEvent(ImGuiMod_Ctrl, ctrl_);
+        io.AddKeyEvent(ImGuiMod_Shift, shift_);
+#else
+        io.AddKeyEvent(ImGuiKey_ModCtrl, ctrl_);
+        io.AddKeyEvent(ImGuiKey_ModShift, shift_);
+#endif
+        for (const auto& [key, down] : keys_) io.AddKeyEvent(imgui_key(key), down);
+#else
+        io.MousePos = ImVec2(static_cast<float>(x_), static_cast<float>(y_));
+        for (int b = 0; b < 3; ++b) io.MouseDown[b] = down_[b];
+        io.KeyCtrl = ctrl_;
+        io.KeyShift = shift_;
+        for (const auto& [key, down] : keys_) io.KeysDown[key] = down;
+#endif
+        for (const char c : text_) io.AddInputCharacter(static_cast<unsigned char>(c));
+        text_.clear();
+    }
+
+private:
+    void play(GLFWwindow* window, const view::InputEvent& e) {
+        using Kind = view::InputEvent::Kind;
+        ctrl_ = ctrl_ || e.ctrl;
+        shift_ = shift_ || e.shift;
+        switch (e.kind) {
+            case Kind::key:
+                keys_.push_back({e.key, true});
+                held_.push_back(e.key);
+                key_down(window, e.key);
+                break;
+            case Kind::text:
+                text_ += e.text;
+                break;
+            case Kind::move: {
+                if (!e.text.empty()) {
+                    const std::array<float, 4>* item = viewer_of(window)->item(e.text);
+                    if (item == nullptr) throw sim::InputError(e.where + ": no panel item '" + e.text + "' drawn yet");
+                    x_ = 0.5 * ((*item)[0] + (*item)[2]);
+                    y_ = 0.5 * ((*item)[1] + (*item)[3]);
+                } else {
+                    x_ = e.x, y_ = e.y;
+                }
+                double x = x_, y = y_;
+                int w = 0, h = 0;
+                cursor_in_pixels(window, x, y, w, h);
+                guarded(window, [&](Viewer& v) { v.mouse_move(x, y, w, h); });
+                break;
+            }
+            case Kind::press:
+            case Kind::release:
+                down_[e.key] = e.kind == Kind::press;
+                mouse_button(window, e.key, down_[e.key], x_, y_, e.shift);
+                break;
+        }
+    }
+
+#if IMGUI_VERSION_NUM >= 18700
+    // The keys a script may press (input_script.cpp), as ImGui names them.
+    static ImGuiKey imgui_key(int key) {
+        if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) return static_cast<ImGuiKey>(ImGuiKey_A + (key - GLFW_KEY_A));
+        if (key >= GLFW_KEY_0 && key <= GLFW_KEY_9) return static_cast<ImGuiKey>(ImGuiKey_0 + (key - GLFW_KEY_0));
+        switch (key) {
+            case GLFW_KEY_SPACE:
+                return ImGuiKey_Space;
+            case GLFW_KEY_ENTER:
+                return ImGuiKey_Enter;
+            case GLFW_KEY_RIGHT:
+                return ImGuiKey_RightArrow;
+            case GLFW_KEY_LEFT:
+                return ImGuiKey_LeftArrow;
+            case GLFW_KEY_UP:
+                return ImGuiKey_UpArrow;
+            case GLFW_KEY_DOWN:
+                return ImGuiKey_DownArrow;
+            case GLFW_KEY_ESCAPE:
+                return ImGuiKey_Escape;
+            case GLFW_KEY_BACKSPACE:
+                return ImGuiKey_Backspace;
+            case GLFW_KEY_TAB:
+                return ImGuiKey_Tab;
+            case GLFW_KEY_PERIOD:
+                return ImGuiKey_Period;
+            case GLFW_KEY_COMMA:
+                return ImGuiKey_Comma;
+            case GLFW_KEY_LEFT_BRACKET:
+                return ImGuiKey_LeftBracket;
+            case GLFW_KEY_RIGHT_BRACKET:
+                return ImGuiKey_RightBracket;
+            default:
+                return ImGuiKey_None;
+        }
+    }
+#endif
+
+    std::vector<view::InputEvent> events_;
+    std::size_t next_ = 0;
+    double x_ = 0, y_ = 0;  // the cursor, window coordinates
+    bool down_[3] = {};     // mouse buttons held
+    bool ctrl_ = false, shift_ = false;
+    std::vector<std::pair<int, bool>> keys_;  // (GLFW key, down) for the panel this frame
+    std::vector<int> held_;                   // pressed this frame, up the next
+    std::string text_;                        // typed this frame
+};
+
 // ImGui's context and backends for one window, torn down in reverse.
 struct ImGuiSession {
     explicit ImGuiSession(GLFWwindow* window) {
@@ -126,6 +272,9 @@ struct ImGuiSession {
 
 ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overrides, const ViewOptions& options) {
     validate(options);
+    // A script is read before a window opens: a bad one is refused as any bad option.
+    std::optional<ScriptPlayer> script;
+    if (!options.input.empty()) script.emplace(view::read_input_script(options.input));
     Viewer viewer(scene, overrides, options);
     const auto context = render::create_context({.backend = render::Backend::glfw,
                                                  .window_width = options.width,
@@ -142,9 +291,10 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
     ImGuiSession imgui(window);
 
     auto last = Clock::now();
-    int shown = 0;
+    int shown = 0, drawn = 0;
     for (;;) {
         glfwPollEvents();
+        if (script) script->to_viewer(window, ++drawn);
         const auto now = Clock::now();
         viewer.update(std::chrono::duration<double>(now - last).count());
         last = now;
@@ -163,6 +313,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         if (viewer.panel()) {
             ImGui_ImplOpenGL3_NewFrame();
             ImGui_ImplGlfw_NewFrame();
+            if (script) script->to_panel();
             ImGui::NewFrame();
             viewer.panel_ui();
             ImGui::Render();

@@ -32,6 +32,9 @@ struct ViewOptions {
     bool paused = false;               // start paused
     int exit_after = 0;                // > 0: show this many frames, one scene step each (no wall clock), then exit
     std::filesystem::path screenshot;  // the window's last frame as PNG, on exit (and P's target)
+    // A script of key, text and mouse events by drawn frame (view/input_script.h);
+    // while one drives it, a running scene steps once per drawn frame.
+    std::filesystem::path input;
 };
 
 struct ViewResult {

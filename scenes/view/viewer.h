@@ -159,7 +159,8 @@ public:
 
     // Advances by the wall time since the last frame (times the slow-motion
     // factor), in whole scene steps; or exactly one step per frame when
-    // scripted (exit_after), so that frame N is the scene's frame N.
+    // scripted (exit_after, or an input script), so that frame N is the
+    // scene's frame N.
     void update(double wall_dt) {
         // A screenshot asked for shows the frame it was asked at (P then Space
         // in one poll still saves the paused frame).
@@ -168,7 +169,7 @@ public:
             accumulator_ = 0.0;
             return;
         }
-        if (options_.exit_after > 0) {
+        if (options_.exit_after > 0 || !options_.input.empty()) {
             step_once(false);
             return;
         }
@@ -215,6 +216,12 @@ public:
     }
 
     void panel_ui();
+    // Where the panel last drew the item of this label (window px: x0, y0,
+    // x1, y1), for an input script's "move @LABEL"; null when never drawn.
+    const std::array<float, 4>* item(const std::string& label) const {
+        const auto it = items_.find(label);
+        return it == items_.end() ? nullptr : &it->second;
+    }
     void panel_run_controls();
     void panel_step();
     void panel_overlays();
@@ -230,6 +237,8 @@ public:
 
 private:
     enum class Mode { none, orbit, pan, drag };
+
+    void note_item(const std::string& label);  // the last item's place, under its label (panel.cpp)
 
     void step_once(bool pause = true) {
         if (pause) paused_ = true;
@@ -364,6 +373,7 @@ private:
     };
     std::map<std::string, SystemSeries> system_ms_;  // by the names of World::systems()
     std::uint64_t last_sampled_frames_ = 0;
+    std::map<std::string, std::array<float, 4>> items_;  // the panel's items by label (item())
 };
 
 }  // namespace scenes::view

@@ -1,7 +1,9 @@
 // `plausible view` end to end: the real command in a real GLFW window on a
-// virtual display (Xvfb), keys and mouse sent by xdotool, screenshots of the
-// window compared with the off-screen render (the default backend) of the same
-// frame, and the state it printed compared with the same frames run here.
+// virtual display (Xvfb), driven by input scripts (`view --input`: keys,
+// text and mouse events at drawn frames, so that a loaded machine runs the
+// same frames: no sleeps, no xdotool), screenshots of the window compared
+// with the off-screen render (the default backend) of the same frame, and the
+// state it printed compared with the same frames run here.
 #include "render/gl_context.h"
 #include "render/golden.h"
 #include "render/image.h"
@@ -64,10 +66,8 @@ protected:
     // unloads Mesa's GLX driver (swrast_dri.so) before exit, so Mesa's
     // per-process allocations show as leaks in an "unknown module" that no
     // suppression can name. AddressSanitizer's other checks stay on.
-    // Xvfb runs with -r (no key auto-repeat): on a loaded machine xdotool's
-    // press and release of a key can be far enough apart for the server to
-    // repeat it, and the viewer steps on every repeat (a held Right keeps
-    // stepping), which made a 60-press script run 61 frames.
+    // Xvfb runs with -r (no key auto-repeat): nothing presses real keys now,
+    // but a repeat would step the viewer once more.
     Ran under_xvfb(const std::string& script) const {
         const fs::path file = dir_ / "script.sh";
         std::ofstream(file) << "export ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\"\n"
@@ -77,23 +77,12 @@ protected:
                      file.string() + "'");
     }
 
-    // Starts `view SCENE ARGS --paused` on the virtual display, focuses its
-    // window ($win), runs `actions` (xdotool lines), presses Q and returns
-    // what the viewer printed, with its exit status.
-    Ran drive(const std::string& scene, const std::string& args, const std::string& actions) const {
-        return under_xvfb("$VIEW " + scene + " --paused " + args + " > out.txt 2>&1 &\n" +
-                          "pid=$!\n"
-                          "win=$(xdotool search --sync --name 'Plausible: " +
-                          scene +
-                          "' | head -1)\n"
-                          "xdotool windowfocus --sync \"$win\"\n"
-                          "sleep 0.3\n" +
-                          actions +
-                          "\nxdotool key q\n"
-                          "wait $pid\n"
-                          "status=$?\n"
-                          "cat out.txt\n"
-                          "exit $status\n");
+    // Runs `view SCENE ARGS --paused --input SCRIPT` on the virtual display
+    // and returns what it printed, with its exit status. The script's
+    // frames are the window's drawn frames (scenes/view/input_script.h).
+    Ran play(const std::string& scene, const std::string& args, const std::string& script) const {
+        std::ofstream(dir_ / "input.txt") << script;
+        return under_xvfb("$VIEW " + scene + " --paused " + args + " --input input.txt\n");
     }
 
     // The scene run here for `frames` frames: its state hash and its picture
@@ -144,6 +133,23 @@ TEST_F(View, BadOptionsExit2BeforeAWindowOpens) {
     }
 }
 
+// A bad input script is refused before a window opens, naming file and line.
+TEST_F(View, ABadInputScriptExits2NamingItsLine) {
+    for (const auto& [line, expected] :
+         {std::pair{"1 key Right\n0 key Left\n", ":2: a line starts with the frame"},
+          std::pair{"3 key Right\n2 key Left\n", ":2: frame 2 comes after frame 3"},
+          std::pair{"1 key F13\n", ":1: no key 'F13'"}, std::pair{"1 press thumb\n", ":1: press needs left"},
+          std::pair{"1 move 10\n", ":1: move needs X Y"}, std::pair{"1 jump\n", ":1: no event 'jump'"}}) {
+        std::ofstream(dir_ / "bad.txt") << line;
+        const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input " + (dir_ / "bad.txt").string());
+        EXPECT_EQ(r.status, 2) << line << r.out;
+        EXPECT_NE(r.out.find((dir_ / "bad.txt").string() + expected), std::string::npos) << r.out;
+    }
+    const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input /no/such/script.txt");
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("/no/such/script.txt: cannot read it"), std::string::npos) << r.out;
+}
+
 // --exit-after N steps one scene frame per window frame: the last one is the
 // scene's frame N, bit for bit, and looks as `render` draws it.
 TEST_F(View, ExitAfterShowsTheSceneFrameAsTheOffScreenRenderDrawsIt) {
@@ -155,22 +161,28 @@ TEST_F(View, ExitAfterShowsTheSceneFrameAsTheOffScreenRenderDrawsIt) {
     expect_same_picture(dir_ / "shot.png", ref.image);
 }
 
-// Start paused, step 5, step back 2 (stored states), screenshot (P); resume,
-// pause, step once more, quit: each shown frame is the scene's frame, bits
-// and picture.
+// Start paused, step 5, step back 2 (stored states), screenshot (P); resume
+// for 60 drawn frames (one step each while scripted), pause, step once more,
+// quit: each shown frame is the scene's frame, bits and picture.
 TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
-    const Ran r = drive("pendulum", "--no-panel --size 480x270 --screenshot last.png", R"(
-for k in 1 2 3 4 5; do xdotool key Right; sleep 0.05; done
-xdotool key Left; sleep 0.05; xdotool key Left; sleep 0.05
-xdotool key p; sleep 0.3
-xdotool key space; sleep 1.0; xdotool key space; sleep 0.1
-xdotool key Right; sleep 0.1
+    const Ran r = play("pendulum", "--no-panel --size 480x270 --screenshot last.png", R"(
+1 key Right
+2 key Right
+3 key Right
+4 key Right
+5 key Right
+6 key Left
+7 key Left
+8 key p       # the screenshot of frame 3
+9 key space   # runs from this drawn frame on: 60 steps
+69 key space
+70 key Right
+71 key q
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     expect_same_picture(dir_ / "view-pendulum-3.png", reference("pendulum", 3, 480, 270).image);
-    const int last = std::stoi(field(r.out, "frame").empty() ? "0" : field(r.out, "frame"));
-    EXPECT_GT(last, 4) << "Space resumed for 1 s and Right stepped once more: " << r.out;
-    const Reference ref = reference("pendulum", last, 480, 270);
+    EXPECT_EQ(field(r.out, "frame"), "64") << "3, then 60 running, then 1: " << r.out;
+    const Reference ref = reference("pendulum", 64, 480, 270);
     EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
     expect_same_picture(dir_ / "last.png", ref.image);
 }
@@ -178,10 +190,15 @@ xdotool key Right; sleep 0.1
 // I changes the integrator live: three steps with the scene's, three with the
 // next in the table, the same bits as that run made here.
 TEST_F(View, IChangesTheIntegratorLive) {
-    const Ran r = drive("oscillator", "--no-panel --size 320x180", R"(
-for k in 1 2 3; do xdotool key Right; sleep 0.05; done
-xdotool key i; sleep 0.05
-for k in 1 2 3; do xdotool key Right; sleep 0.05; done
+    const Ran r = play("oscillator", "--no-panel --size 320x180", R"(
+1 key Right
+2 key Right
+3 key Right
+4 key i
+5 key Right
+6 key Right
+7 key Right
+8 key q
 )");
     ASSERT_EQ(r.status, 0) << r.out;
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
@@ -202,32 +219,26 @@ for k in 1 2 3; do xdotool key Right; sleep 0.05; done
 
 // A scene parameter changed in the panel rebuilds the scene from its file
 // with that value: the cloth's ball shrunk to 0.3 m, then 60 steps, the same
-// bits as `--set colliders[0].radius=0.3`. The clicks are where Debian's
-// Dear ImGui 1.86 lays the panel out in a 1280x720 window: "Scene
-// parameters", then colliders[0].radius's slider (Ctrl+click types a value;
-// Return is held, as ImGui 1.86 misses a press and release in one frame).
-// Each action waits for the panel to be drawn again (seconds: a sanitized or
-// loaded viewer draws slowly): on such a machine the ctrl+click once landed
-// before the opened section was laid out, so the field never took the keys
-// and the '.' of "0.3" reached the viewer as its step key (the default cloth
-// at frame 61 for 60 presses of Right).
-// DISABLED (2026-12-02): in fresh-clone CI runs the click still misses the
-// panel (frame 61, 2 runs of the last 4, both tries), which fails the whole
-// suite; it needs a readiness signal from the viewer, not longer sleeps.
-// Run it by hand: --gtest_also_run_disabled_tests.
-TEST_F(View, DISABLED_APanelSliderRebuildsTheSceneWithItsValue) {
-    // The script, with its waits scaled by `slow`. xdotool cannot ask the
-    // viewer whether the panel has been laid out, so on a loaded machine a
-    // click can still land early: then the run is tried once more with
-    // twice the waits, and the assertions below judge that second run.
-    auto script = [](double slow) {
-        auto wait = [slow](double s) { return " sleep " + std::to_string(s * slow) + "\n"; };
-        return "xdotool mousemove --window \"$win\" 960 284 click 1;" + wait(2.0) +
-               "xdotool mousemove --window \"$win\" 980 498;" + wait(1.0) + "xdotool keydown ctrl;" + wait(0.2) +
-               "xdotool click 1;" + wait(0.2) + "xdotool keyup ctrl;" + wait(1.0) + "xdotool key ctrl+a;" + wait(0.3) +
-               "xdotool type \"0.3\";" + wait(0.1) + "xdotool keydown Return;" + wait(0.15) + "xdotool keyup Return;" +
-               wait(0.5) + "for k in $(seq 60); do xdotool key Right; sleep 0.02; done\n";
-    };
+// bits as `--set colliders[0].radius=0.3`. The script finds the panel's
+// items by their labels where the panel drew them (any Dear ImGui version's
+// layout): it opens "Scene parameters", ctrl+clicks colliders[0].radius's
+// slider (which then takes typed text), types 0.3 and Return. (Driven by
+// xdotool and sleeps, this test once clicked before the panel was laid out
+// on a loaded machine; frames make it wait for exactly what it needs.)
+TEST_F(View, APanelSliderRebuildsTheSceneWithItsValue) {
+    std::string script = R"(
+5 move @Scene parameters      # the panel has its size and place by then
+6 press left
+7 release left
+9 move @colliders[0].radius
+10 press left ctrl
+11 release left
+12 key ctrl+a
+13 text 0.3
+14 key Return
+)";
+    for (int k = 0; k < 60; ++k) script += std::to_string(18 + k) + " key Right\n";
+    script += "78 key q\n";
     // After 1 s the cloth lies on the ball, so the ball's size is in the bits.
     auto hash_after_60 = [](const std::vector<scenes::Override>& overrides) {
         const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("cloth"), overrides);
@@ -235,14 +246,11 @@ TEST_F(View, DISABLED_APanelSliderRebuildsTheSceneWithItsValue) {
         for (int k = 0; k < 60; ++k) run.advance();
         return run.state_hash_hex();
     };
-    const std::string expected = hash_after_60({{"colliders[0].radius", "0.3"}});
-    Ran r = drive("cloth", "--size 1280x720", script(1.0));
-    if (r.status != 0 || field(r.out, "frame") != "60" || field(r.out, "state") != expected) {
-        r = drive("cloth", "--size 1280x720", script(2.0));
-    }
+    const Ran r = play("cloth", "--size 1280x720", script);
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(field(r.out, "frame"), "60") << r.out;
-    EXPECT_EQ(field(r.out, "state"), expected) << "not the cloth over a 0.3 m ball: " << r.out;
+    EXPECT_EQ(field(r.out, "state"), hash_after_60({{"colliders[0].radius", "0.3"}}))
+        << "not the cloth over a 0.3 m ball: " << r.out;
     EXPECT_NE(field(r.out, "state"), hash_after_60({})) << "the slider changed nothing: " << r.out;
 }
 
@@ -261,13 +269,10 @@ TEST_F(View, MouseDragGrabsTheBobAndPullsIt) {
         std::to_string(static_cast<int>(pixel->x())) + " " + std::to_string(static_cast<int>(pixel->y()));
     const std::string away =
         std::to_string(static_cast<int>(pixel->x()) - 120) + " " + std::to_string(static_cast<int>(pixel->y()) - 60);
-    const Ran r = drive("pendulum", "--no-panel --size 480x270", R"(
-xdotool mousemove --window "$win" )" + at + R"(; sleep 0.2
-xdotool mousedown 1; sleep 0.2
-xdotool mousemove --window "$win" )" + away + R"(; sleep 0.2
-for k in $(seq 30); do xdotool key Right; sleep 0.02; done
-xdotool mouseup 1; sleep 0.1
-)");
+    std::string script = "1 move " + at + "\n2 press left\n3 move " + away + "\n";
+    for (int k = 0; k < 30; ++k) script += std::to_string(4 + k) + " key Right\n";
+    script += "34 release left\n35 key q\n";
+    const Ran r = play("pendulum", "--no-panel --size 480x270", script);
     ASSERT_EQ(r.status, 0) << r.out;
     EXPECT_NE(r.out.find("grabbed particle " + std::to_string(bob)), std::string::npos) << r.out;
     EXPECT_EQ(field(r.out, "frame"), "30") << r.out;
