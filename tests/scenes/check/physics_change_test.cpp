@@ -6,6 +6,7 @@
 // `plausible run --csv` files (every particle's and body's x and v, 17
 // significant digits: exact).
 #include "scenes/model/scene.h"
+#include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +14,6 @@
 
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -25,17 +25,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-// The command's stdout and stderr, then "exit N".
-std::string run(const std::string& command) {
-    std::string out;
-    FILE* p = popen((command + " 2>&1; echo \"exit $?\"").c_str(), "r");
-    if (p == nullptr) return out;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-    pclose(p);
-    return out;
-}
 
 // run --csv's rows: (frame, kind, id) -> "x,y,z,vx,vy,vz".
 using Rows = std::map<std::tuple<int, std::string, int>, std::string>;
@@ -65,10 +54,8 @@ TEST(PhysicsChange, AOneObjectChangeNamesThatObjectAndItsFirstFrame) {
     const std::string change = " --set ropes[0].mass=1.0000001";
 
     // Independently: the first frame whose rows differ, and which.
-    ASSERT_NE(run(exe + " run showcase --frames 4 --csv " + (dir / "base.csv").string()).find("exit 0"),
-              std::string::npos);
-    ASSERT_NE(run(exe + " run showcase --frames 4 --csv " + (dir / "changed.csv").string() + change).find("exit 0"),
-              std::string::npos);
+    ASSERT_EQ(test::shell(exe + " run showcase --frames 4 --csv " + (dir / "base.csv").string()).status, 0);
+    ASSERT_EQ(test::shell(exe + " run showcase --frames 4 --csv " + (dir / "changed.csv").string() + change).status, 0);
     const Rows base = read_csv(dir / "base.csv"), changed = read_csv(dir / "changed.csv");
     ASSERT_EQ(base.size(), changed.size());
     int first = -1;
@@ -96,11 +83,12 @@ TEST(PhysicsChange, AOneObjectChangeNamesThatObjectAndItsFirstFrame) {
 
     // The check names that frame and that object alone, exit 1.
     const fs::path report = dir / "report";
-    const std::string out = run(exe + " check showcase --physics-only --report " + report.string() + change);
+    const test::Ran r = test::shell(exe + " check showcase --physics-only --report " + report.string() + change);
+    const std::string& out = r.out;
     EXPECT_NE(out.find("physics changed at frame " + std::to_string(first) + ","), std::string::npos) << out;
     EXPECT_NE(out.find("of 4 (t = "), std::string::npos) << "the substep and the time: " << out;
     EXPECT_NE(out.find("s): rope;"), std::string::npos) << "the rope and nothing else: " << out;
-    EXPECT_NE(out.find("exit 1"), std::string::npos) << out;
+    EXPECT_EQ(r.status, 1) << out;
     std::ifstream in(report / "report.json");
     const nlohmann::json j = nlohmann::json::parse(in);
     const nlohmann::json& c = j.at("scenes").at(0).at("physics_change");

@@ -5,6 +5,8 @@
 // teacher plots from them, the Dzhanibekov flip of the inertia scene (the
 // spin about the intermediate axis reverses in the body's frame, those about
 // the smallest and largest axes keep their sign).
+#include "tests/scenes/shell.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -12,7 +14,6 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -23,16 +24,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string run(const std::string& command) {
-    std::string out;
-    FILE* p = popen((command + " 2>&1; echo \"exit $?\"").c_str(), "r");
-    if (p == nullptr) return out;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
-    pclose(p);
-    return out;
-}
 
 std::vector<std::string> split(const std::string& line) {
     std::vector<std::string> cells;
@@ -57,9 +48,9 @@ protected:
     // The CSV's lines, after `plausible run SCENE --frames N --csv`.
     std::vector<std::string> csv(const std::string& scene, int frames) {
         const fs::path file = dir_ / (scene + ".csv");
-        const std::string out = run(std::string(PLAUSIBLE_EXE) + " run " + scene + " --frames " +
-                                    std::to_string(frames) + " --csv " + file.string());
-        EXPECT_NE(out.find("exit 0"), std::string::npos) << out;
+        const test::Ran r = test::shell(std::string(PLAUSIBLE_EXE) + " run " + scene + " --frames " +
+                                        std::to_string(frames) + " --csv " + file.string());
+        EXPECT_EQ(r.status, 0) << r.out;
         std::vector<std::string> lines;
         std::ifstream in(file);
         for (std::string line; std::getline(in, line);) lines.push_back(line);

@@ -11,10 +11,10 @@
 #include "scenes/draw/scene_run.h"
 #include "scenes/model/scene.h"
 #include "sim/integrators.h"
+#include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -27,21 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Ran {
-    int status = -1;  // exit status
-    std::string out;  // stdout and stderr
-};
-
-Ran shell(const std::string& command) {
-    Ran r;
-    FILE* p = popen((command + " 2>&1").c_str(), "r");
-    if (p == nullptr) return r;
-    char buf[4096];
-    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.out.append(buf, n);
-    const int status = pclose(p);
-    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
+using test::Ran;
+using test::shell;
 
 // The number after `key` in the viewer's last line ("frame 12", "state 9f...").
 std::string field(const std::string& out, const std::string& key) {
