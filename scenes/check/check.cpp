@@ -2,6 +2,7 @@
 
 #include "render/font.h"
 #include "scenes/draw/scene_run.h"
+#include "scenes/model/recording.h"
 
 #include <nlohmann/json.hpp>
 
@@ -152,6 +153,7 @@ Filmstrip run_filmstrip(const SceneDef& scene, render::Renderer* renderer, const
         labels.push_back("frame " + std::to_string(run.frame()) + " · " + format_time(run.time()));
     }
     strip.verdict = run.verdict();
+    strip.diverged_frame = run.diverged_frame();
     if (renderer == nullptr) return strip;
     // Checkpoints after an explosion: dark tiles, so the strip keeps the
     // golden's layout and the diff shows where the run stopped.
@@ -218,6 +220,10 @@ void compare_frames(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip
     if (change.frame < 0) return;
     c.changed_frame = change.frame;
     c.changed_substep = change.substep;
+    if (change.ended) {
+        c.frames_expected = static_cast<int>(golden.frames->frames.size()) - 1;
+        c.frames_actual = static_cast<int>(strip.record.frames.size()) - 1;
+    }
     // Frames are of a fixed dt (check never changes it): the end of the substep.
     const double done = change.frame == 0    ? 0.0
                         : change.substep < 0 ? change.frame
@@ -292,7 +298,12 @@ void judge_exploded(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip
 // frame-by-frame hashes; without them, the first checkpoint whose hash differs.
 std::string physics_changed(const SceneCheck& c, const Filmstrip& strip) {
     std::string text;
-    if (c.changed_frame >= 0) {
+    if (c.frames_expected != c.frames_actual) {
+        // Every frame both reached is the same: the scene runs to another last checkpoint.
+        text = "the run goes to frame " + std::to_string(c.frames_actual) + " and the golden's to frame " +
+               std::to_string(c.frames_expected) + " (its frames or checkpoints changed); every frame both reached " +
+               "has the golden's state";
+    } else if (c.changed_frame >= 0) {
         text = "physics changed at frame " + std::to_string(c.changed_frame);
         if (c.changed_frame == 0) text += " (the start)";
         if (c.changed_frame > 0 && c.substeps > 1 && c.changed_substep >= 0) {
@@ -311,8 +322,10 @@ std::string physics_changed(const SceneCheck& c, const Filmstrip& strip) {
         }
     }
     const int i = c.first_hash_mismatch;
-    if (i >= 0) {
-        const int frame = i < static_cast<int>(strip.frames.size()) ? strip.frames[i] : -1;
+    if (i >= static_cast<int>(strip.frames.size())) {
+        text += (text.empty() ? "" : "; ") + std::string("checkpoint ") + std::to_string(i) + " not reached";
+    } else if (i >= 0) {
+        const int frame = strip.frames[i];
         text += (text.empty() ? "physics changed at " : "; state hash differs from ") + std::string("checkpoint ") +
                 std::to_string(i) + " (frame " + std::to_string(frame) + ")";
         if (c.changed_frame < 0) text += ": state hash differs";
@@ -440,7 +453,7 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
     c.arch_actual = build_architecture();
     const Evidence evidence{report_dir, c};
     try {
-        const SceneDef scene = load_scene(resolve_scene(name), overrides);
+        const SceneDef scene = load_scene_or_recording(name, overrides);
         c.scene = scene.name;
         const Filmstrip strip = run_filmstrip(scene, renderer, {});
         const Golden golden = read_golden(golden_dir, scene.name);
@@ -458,6 +471,12 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
             judge_missing(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
         } else {
             judge_against_golden(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
+        }
+        if (strip.diverged_frame >= 0) {
+            // A recording given as the scene, replayed here: it parted from what was recorded.
+            c.status = SceneCheck::Status::fail;
+            c.message = "the recording " + scene.recorded->file.string() + " diverged at frame " +
+                        std::to_string(strip.diverged_frame) + "; " + c.message;
         }
     } catch (const sim::InputError& e) {
         c.status = SceneCheck::Status::error;

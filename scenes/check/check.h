@@ -23,6 +23,7 @@ struct Filmstrip {
     std::vector<std::string> hashes;  // hex state hash at each
     sim::Verdict verdict;             // exploded: the run stopped at verdict.frame
     RunHashes record;                 // every frame's hash, up to the last checkpoint (golden/<scene>.hashes)
+    int diverged_frame = -1;          // a recording's: where the run parted from it (SceneRun::diverged_frame)
 };
 
 struct FilmstripSettings {

@@ -29,12 +29,13 @@ struct SceneCheck {
     // hashes (golden/<scene>.hashes); changed_frame -1: no change found, or
     // no such file (then `hashes_note` says so).
     int changed_frame = -1;
-    int changed_substep = -1;                  // from 0; -1: not known (or frame 0, the start)
-    int substeps = 1;                          // the scene's, per frame
-    double changed_time = 0.0;                 // s, at the end of that substep
-    int objects_frame = -1;                    // the frame where the objects were compared; -1: none
-    std::vector<std::string> changed_objects;  // the objects that differ there, by their scene names
-    std::string hashes_note;                   // why the frame-by-frame hashes were not compared; "" when they were
+    int changed_substep = -1;                    // from 0; -1: not known (or frame 0, the start)
+    int frames_expected = 0, frames_actual = 0;  // the last frame of each run, when their lengths differ
+    int substeps = 1;                            // the scene's, per frame
+    double changed_time = 0.0;                   // s, at the end of that substep
+    int objects_frame = -1;                      // the frame where the objects were compared; -1: none
+    std::vector<std::string> changed_objects;    // the objects that differ there, by their scene names
+    std::string hashes_note;                     // why the frame-by-frame hashes were not compared; "" when they were
     std::string expected_png, actual_png, diff_png, side_png;  // relative to the report folder; empty: not written
     std::string fingerprint_expected, fingerprint_actual;      // renderer fingerprints, one line each
     std::string arch_expected, arch_actual;                    // the golden's and this build's architecture

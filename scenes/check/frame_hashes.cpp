@@ -195,6 +195,7 @@ HashChange locate_change(const RunHashes& expected, const RunHashes& actual) {
     while (f < common && expected.frames[f].hash == actual.frames[f].hash) ++f;
     if (f == common && expected.frames.size() == actual.frames.size()) return c;
     c.frame = static_cast<int>(f);
+    c.ended = f == common;
     if (f > 0 && f < common && expected.substeps == actual.substeps) {
         const std::vector<std::uint16_t>&e = expected.frames[f].substeps, &a = actual.frames[f].substeps;
         std::size_t k = 0;

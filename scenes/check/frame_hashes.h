@@ -50,6 +50,7 @@ RunHashes parse_run_hashes(std::string_view text, const std::string& file);
 struct HashChange {
     int frame = -1;          // the first frame whose state differs (or that only one run reached); -1: none
     int substep = -1;        // its first substep that differs, from 0; -1: not known (the substep counts differ)
+    bool ended = false;      // one run stops there: every frame both reached is the same (another length)
     int objects_frame = -1;  // the grid frame where the objects were compared; -1: none at or after
     std::vector<std::string> objects;  // those that differ there ("name", "name (new)", "name (gone)")
 };

@@ -51,8 +51,14 @@ struct SceneOptions {
     // (render: the frames to draw).
     void add_to(CLI::App* app, bool frames = true);
     std::vector<Override> overrides() const;
-    SceneDef load() const;  // prints the scene's warnings to stderr
+    SceneDef load() const;  // a scene or a recording (recording.h); prints the scene's warnings to stderr
 };
+
+// After a run of a scene from a recording (SceneDef::recorded): prints
+// whether every frame reached had the recorded state hash or where it
+// diverged, and returns kExitFailed for a divergence (kExitOk otherwise, and
+// for a scene that is not a recording).
+int report_replay(const SceneDef& scene, int diverged_frame, int frames_reached);
 
 // "WIDTHxHEIGHT" within 16x16 .. 8192x8192 px.
 std::pair<int, int> parse_size(const std::string& text);

@@ -94,11 +94,12 @@ int render_scene(const RenderArgs& r) {
     const fs::path sheet = fs::path(r.out) / (scene.name + "_sheet.png");
     render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font(), sheet_options));
     std::printf("%s\n", sheet.c_str());
+    const int replay = report_replay(scene, run.diverged_frame(), run.frame());
     if (run.verdict().exploded()) {
         std::printf("%s\n", run.verdict().message(scene.name).c_str());
         return kExitFailed;
     }
-    return kExitOk;
+    return replay;
 }
 
 }  // namespace
@@ -106,7 +107,7 @@ int render_scene(const RenderArgs& r) {
 Command add_render(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render frames of a scene to PNG, and a contact sheet");
-    cmd->add_option("scene", args->scene.scene, "Scene name or .toml path")->required();
+    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
     args->scene.add_to(cmd, false);  // --frames here: the frames to draw
     cmd->add_option("--frames", args->frames,
                     "Frames to render, e.g. 0,30,60 (default: the checkpoints; the scene runs to the last)");

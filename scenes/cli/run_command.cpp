@@ -2,6 +2,7 @@
 // or one JSON object with --json), and with --csv every object's state at
 // every frame. Exit 1 when the watchdog stopped the run.
 #include "scenes/cli/commands.h"
+#include "scenes/model/recording.h"
 
 #include "scenes/common/interrupt.h"
 #include "scenes/common/progress.h"
@@ -27,6 +28,7 @@ namespace fs = std::filesystem;
 struct RunArgs {
     SceneOptions scene;
     std::optional<std::string> csv;
+    std::optional<std::string> record;
     bool json = false;
 };
 
@@ -91,6 +93,38 @@ private:
     std::ofstream out_;
 };
 
+// --record FILE: the run kept as a recording (scenes/model/recording.h):
+// the scene's text and overrides, the state hash after every frame and the
+// World's state every K frames; written at the end (atomically).
+class Recorder {
+public:
+    Recorder(std::string path, const SceneDef& scene) : path_(std::move(path)) {
+        rec_.scene_name = scene.name;
+        rec_.scene_file = scene.file.string();
+        rec_.scene_text = scene.text;
+        rec_.overrides = scene.overrides;
+        rec_.step = scene.step;
+        frames_ = scene.frames;
+    }
+    void frame(const SceneRun& run) {
+        rec_.hashes.push_back(run.state_hash());
+        if (run.frame() == 0) {
+            // K from the size of a state: the states stay within a few MB.
+            rec_.every = recording_interval(frames_, snapshot_bytes(run.world().snapshot()));
+        }
+        if (run.frame() % rec_.every == 0) rec_.states.emplace_back(run.frame(), run.world().snapshot());
+    }
+    void commit(const SceneRun& run) {
+        rec_.frames = run.frame();
+        write_recording(path_, rec_);
+    }
+
+private:
+    std::string path_;
+    Recording rec_;
+    int frames_ = 0;
+};
+
 // The energy over a run, J: at the start, and its range over every frame.
 struct EnergyRange {
     double initial = 0.0, min = 0.0, max = 0.0;
@@ -102,18 +136,21 @@ struct EnergyRange {
 // frame's rows to `csv` when there is one; returns the energy range. On a
 // terminal a progress bar on stderr says how far it is and how long is left
 // (a large scene runs for minutes; without it a run looks hung).
-EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv) {
+EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv, Recorder* recorder) {
     EnergyRange energy(run.world().energy());
     if (csv) csv->rows(run);
+    if (recorder) recorder->frame(run);
     Progress progress("run", progress_wanted(), frames);
     while (run.frame() < frames && run.advance()) {
         energy.add(run.world().energy());
         if (csv) csv->rows(run);
+        if (recorder) recorder->frame(run);
         if (interrupt_signal() != 0) check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
         progress.step("frame " + std::to_string(run.frame()));
     }
     if (run.verdict().exploded()) {
         if (csv) csv->rows(run);
+        if (recorder) recorder->frame(run);
         energy.add(run.world().energy());
     }
     if (csv) check_interrupt("run --csv", "the last frame");
@@ -244,8 +281,11 @@ int run_scene(const RunArgs& args) {
     std::optional<InterruptScope> interrupts;
     std::optional<CsvWriter> csv;
     if (args.csv) interrupts.emplace(), csv.emplace(*args.csv, !scene.model.rigid.bodies.empty());
-    const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr);
+    std::optional<Recorder> recorder;
+    if (args.record) recorder.emplace(*args.record, scene);
+    const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr, recorder ? &*recorder : nullptr);
     if (csv) csv->commit();
+    if (recorder) recorder->commit(run);
     const Summary summary{
         scene, run, energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run)};
     if (args.json) {
@@ -253,7 +293,8 @@ int run_scene(const RunArgs& args) {
     } else {
         print_text(summary);
     }
-    return run.verdict().exploded() ? kExitFailed : kExitOk;
+    const int replay = report_replay(scene, run.diverged_frame(), run.frame());
+    return run.verdict().exploded() ? kExitFailed : replay;
 }
 
 }  // namespace
@@ -261,7 +302,8 @@ int run_scene(const RunArgs& args) {
 Command add_run(CLI::App& app) {
     auto args = std::make_shared<RunArgs>();
     CLI::App* run = app.add_subcommand("run", "Run a scene headless and print a summary");
-    run->add_option("scene", args->scene.scene, "Scene name (see `plausible list`) or path of a .toml file")
+    run->add_option("scene", args->scene.scene,
+                    "Scene name (see `plausible list`), path of a .toml file, or a recording (--record)")
         ->required();
     args->scene.add_to(run);
     run->add_option("--csv", args->csv,
@@ -269,6 +311,10 @@ Command add_run(CLI::App& app) {
                     "body's x is its centre of mass); with rigid bodies also qw,qx,qy,qz,wx,wy,wz: a body's "
                     "orientation (unit quaternion, body to world) and angular velocity (rad/s, world frame), "
                     "empty on particle rows");
+    run->add_option("--record", args->record,
+                    "Write the run as a recording: the scene, the state hash after every frame and the state "
+                    "every K frames (a few MB at most); render, video, view, check and run take it as a scene and "
+                    "replay it, reporting the first frame whose state differs (exit 1)");
     run->add_flag("--json", args->json,
                   "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
                   "of frames (every frame at first, then enough to keep the clocks under 1% of the step; a step "

@@ -2,8 +2,10 @@
 // values several of them take (--size, --backend).
 #include "scenes/cli/commands.h"
 
+#include "scenes/model/recording.h"
 #include "sim/error.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace scenes::cli {
@@ -27,9 +29,23 @@ std::vector<Override> SceneOptions::overrides() const {
 }
 
 SceneDef SceneOptions::load() const {
-    SceneDef def = load_scene(resolve_scene(scene), overrides());
+    SceneDef def = load_scene_or_recording(scene, overrides());
     for (const std::string& w : def.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     return def;
+}
+
+int report_replay(const SceneDef& scene, int diverged_frame, int frames_reached) {
+    if (!scene.recorded) return kExitOk;
+    const std::string file = scene.recorded->file.string();
+    const int recorded = static_cast<int>(scene.recorded->hashes.size()) - 1;
+    if (diverged_frame >= 0) {
+        std::printf("recording %s: DIVERGED at frame %d (t = %.4g s): the state hash differs from the recorded one\n",
+                    file.c_str(), diverged_frame, diverged_frame * scene.step.dt);
+        return kExitFailed;
+    }
+    std::printf("recording %s: replayed, frames 0 .. %d of its %d identical to the recorded state hashes\n",
+                file.c_str(), std::min(frames_reached, recorded), recorded);
+    return kExitOk;
 }
 
 std::pair<int, int> parse_size(const std::string& text) {

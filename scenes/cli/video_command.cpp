@@ -30,7 +30,7 @@ int video(VideoArgs& a) {
     const VideoStats v = write_video(scene, a.scene.overrides(), a.options);
     std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
                 a.out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
-    return kExitOk;
+    return report_replay(scene, v.diverged_frame, v.last_frame);
 }
 
 }  // namespace
@@ -38,7 +38,7 @@ int video(VideoArgs& a) {
 Command add_video(CLI::App& app) {
     auto args = std::make_shared<VideoArgs>();
     CLI::App* cmd = app.add_subcommand("video", "Render a scene to MP4 (H.264) or GIF through ffmpeg");
-    cmd->add_option("scene", args->scene.scene, "Scene name or .toml path")->required();
+    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
     args->scene.add_to(cmd);
     cmd->add_option("-o,--output", args->out, "FILE.mp4 or FILE.gif (written whole or not at all)")->required();
     cmd->add_option("--size", args->size, "Width x height, even, px")->capture_default_str();

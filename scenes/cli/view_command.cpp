@@ -26,7 +26,8 @@ int view(ViewArgs& a) {
     std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s\n", scene.name.c_str(), v.frame, v.time,
                 v.state_hash.c_str(), v.exploded ? " (exploded)" : "",
                 a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
-    return v.exploded ? kExitFailed : kExitOk;
+    const int replay = report_replay(scene, v.diverged_frame, v.frame);
+    return v.exploded ? kExitFailed : replay;
 }
 
 }  // namespace
@@ -35,7 +36,7 @@ Command add_view(CLI::App& app) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand(
         "view", "Run a scene in a window: pause, step, step back, drag things, change integrator and dt live");
-    cmd->add_option("scene", args->scene.scene, "Scene name or .toml path")->required();
+    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
     args->scene.add_to(cmd);
     cmd->add_option("--size", args->size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
     cmd->add_option("--msaa", args->options.msaa_samples,

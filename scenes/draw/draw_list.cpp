@@ -301,6 +301,13 @@ void SceneRun::add_hud(render::DrawList& list, float text) const {
             render::Vec2(0.5f * text, line * text), 0.8f * text, render::Color{0.8f, 0.05f, 0.05f, 1}, true});
         line += 1.2f;
     }
+    if (diverged_ >= 0) {
+        // A replayed recording whose state parted from the recorded one.
+        list.texts.push_back(render::Text{"DIVERGED from the recording at frame " + std::to_string(diverged_),
+                                          render::Vec2(0.5f * text, line * text), 0.8f * text,
+                                          render::Color{0.8f, 0.05f, 0.05f, 1}, true});
+        line += 1.2f;
+    }
     if (verdict().exploded()) {
         list.texts.push_back(render::Text{verdict().message(scene_.name), render::Vec2(0.5f * text, line * text),
                                           0.8f * text, render::Color{0.8f, 0.05f, 0.05f, 1}, true});

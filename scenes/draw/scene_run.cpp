@@ -3,6 +3,7 @@
 // state hash. What a frame shows is in draw_list.cpp.
 #include "scenes/draw/scene_run.h"
 
+#include "scenes/model/recording.h"
 #include "sim/state_hash.h"
 
 #include <cinttypes>
@@ -14,6 +15,7 @@ SceneRun::SceneRun(const SceneDef& scene) : scene_(scene), step_(scene.step), wo
     world_.set_watchdog(scene.watchdog);
     trails_.resize(scene.model.particles.size());
     record();
+    compare_with_recording();
 }
 
 bool SceneRun::advance() {
@@ -21,7 +23,36 @@ bool SceneRun::advance() {
     world_.step(step_);
     ++frame_;
     record();
+    compare_with_recording();
     return !world_.verdict().exploded();
+}
+
+void SceneRun::compare_with_recording() {
+    const RecordedRun* rec = scene_.recorded.get();
+    if (rec == nullptr || diverged_ >= 0 || frame_ >= static_cast<int>(rec->hashes.size())) return;
+    if (state_hash() != rec->hashes[static_cast<std::size_t>(frame_)]) diverged_ = frame_;
+}
+
+bool SceneRun::seek(int frame) {
+    const RecordedRun* rec = scene_.recorded.get();
+    if (rec == nullptr || frame < 0 || frame >= static_cast<int>(rec->hashes.size())) return false;
+    const std::pair<int, sim::World::Snapshot>* nearest = nullptr;  // the last stored state at or before it
+    for (const auto& state : rec->states) {
+        if (state.first <= frame) nearest = &state;
+    }
+    // Step on from where the run is, unless a stored state is nearer.
+    const bool step_on = frame_ <= frame && (nearest == nullptr || frame_ >= nearest->first);
+    if (!step_on) {
+        if (nearest == nullptr) return false;
+        world_.restore(nearest->second);
+        frame_ = nearest->first;
+        for (auto& trail : trails_) trail.clear();
+        energy_.clear();
+        record();
+    }
+    while (frame_ < frame && advance()) {
+    }
+    return frame_ == frame;
 }
 
 void SceneRun::set_step(const sim::StepSettings& step) {

@@ -47,6 +47,15 @@ public:
     // Mouse drags and other direct edits.
     sim::World& world_for_edit() { return world_; }
 
+    // A scene from a recording (SceneDef::recorded): the first frame whose
+    // state hash differs from the recorded one, checked as each frame up to
+    // the recording's last is reached; -1: none (or not a recording).
+    int diverged_frame() const { return diverged_; }
+    // A recording's frame, quickly: the nearest stored state at or before it,
+    // then steps (trails start again from there). False when the scene is
+    // not a recording or the frame is beyond it.
+    bool seek(int frame);
+
     int frame() const { return frame_; }
     double time() const { return world_.state().t; }  // s
     const sim::World& world() const { return world_; }
@@ -66,6 +75,7 @@ public:
 
 private:
     void record();
+    void compare_with_recording();  // the frame now against the recorded hash (diverged_)
 
     // The picture, one kind of thing at a time (draw_list.cpp); draw_list()
     // calls them in this order, which is the order of the list's items.
@@ -90,6 +100,7 @@ private:
     sim::StepSettings step_;
     sim::World world_;
     int frame_ = 0;
+    int diverged_ = -1;                             // diverged_frame()
     std::vector<std::deque<render::Vec3>> trails_;  // per particle, oldest first (empty for pinned ones)
     std::vector<render::Vec2> energy_;              // (t s, E J) per frame
 };

@@ -79,7 +79,7 @@ std::filesystem::path resolve_scene(const std::string& name_or_path) {
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
     throw SceneError("unknown scene " + loader::quote(name_or_path) + " (scenes: " + list +
-                     "; or the path of a .toml file)");
+                     "; or the path of a .toml file, or of a recording)");
 }
 
 }  // namespace scenes

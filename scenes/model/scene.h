@@ -21,6 +21,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -91,10 +92,21 @@ struct View {
     double water_height = 0.0;     // m
 };
 
+// "KEY=VALUE" overrides applied to the file before validation, with the same
+// checks (and their errors say "--set KEY").
+struct Override {
+    std::string key;    // dotted path: step.dt, forces.springs[0].stiffness, particles[1].mass
+    std::string value;  // a TOML value: 0.01, "rk4", true, [0, 1, 0]
+};
+
+struct RecordedRun;  // scenes/model/recording.h
+
 struct SceneDef {
-    std::string name;            // scene name (file stem)
-    std::filesystem::path file;  // where it was read from
-    std::string description;     // one sentence
+    std::string name;                 // scene name (file stem)
+    std::filesystem::path file;       // where it was read from
+    std::string text;                 // the file as read (a recording keeps it, to build the scene again)
+    std::vector<Override> overrides;  // what was set over the file (load_scene's), applied in order
+    std::string description;          // one sentence
 
     sim::ParticleModel model;
     std::vector<std::string> particle_names;  // one per particle ("" for unnamed)
@@ -115,6 +127,9 @@ struct SceneDef {
     // What is legal but likely a mistake (a jointed mass ratio over 10:1),
     // each "file:line:column: message"; the command prints them to stderr.
     std::vector<std::string> warnings;
+    // Set when the scene came from a recording (scene_of): every run of it
+    // checks each frame's state hash against the recorded one.
+    std::shared_ptr<const RecordedRun> recorded;
 
     // The systems this scene builds, for `run --json` ("particles", "springs", ...).
     std::vector<std::string> systems() const;
@@ -137,12 +152,6 @@ struct SceneObject {
 // Unnamed particles belong to no object.
 std::vector<SceneObject> scene_objects(const SceneDef& scene);
 
-// "KEY=VALUE" overrides applied to the file before validation, with the same
-// checks (and their errors say "--set KEY").
-struct Override {
-    std::string key;    // dotted path: step.dt, forces.springs[0].stiffness, particles[1].mass
-    std::string value;  // a TOML value: 0.01, "rk4", true, [0, 1, 0]
-};
 Override parse_override(const std::string& text);  // "KEY=VALUE"; SceneError when malformed
 
 // Reads and validates a scene file. Throws SceneError.

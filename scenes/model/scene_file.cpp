@@ -98,7 +98,10 @@ SceneDef parse_with(std::string_view text, const std::string& display, const std
 }  // namespace loader
 
 SceneDef parse_scene(std::string_view text, const std::string& display_name, const std::vector<Override>& overrides) {
-    return loader::parse_with(text, display_name, std::filesystem::path(display_name).stem().string(), overrides);
+    SceneDef scene =
+        loader::parse_with(text, display_name, std::filesystem::path(display_name).stem().string(), overrides);
+    scene.text = text;
+    return scene;
 }
 
 SceneDef load_scene(const std::filesystem::path& file, const std::vector<Override>& overrides) {
@@ -114,6 +117,8 @@ SceneDef load_scene(const std::filesystem::path& file, const std::vector<Overrid
     if (!in && !in.eof()) throw SceneError(file.string() + ": cannot read the scene file");
     SceneDef scene = loader::parse_with(text, file.string(), file.stem().string(), overrides);
     scene.file = file;
+    scene.text = std::move(text);
+    scene.overrides = overrides;
     return scene;
 }
 

@@ -175,6 +175,11 @@ std::vector<std::unique_ptr<SceneDef>> tile_scenes(const SceneDef& scene, const 
         defs.push_back(std::make_unique<SceneDef>(scene));
         return defs;
     }
+    if (scene.recorded) {
+        throw sim::InputError(
+            "video: --compare makes variants of a scene file; a recording replays one run "
+            "(give the scene's .toml to compare)");
+    }
     for (const std::string& name : options.compare) {
         std::vector<Override> with = overrides;
         if (name.find('=') != std::string::npos) {
@@ -392,6 +397,8 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     stats.physics_ms = 1e3 * physics / frames;
     stats.render_ms = 1e3 * render_time / frames;
     stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats.last_frame = runs.front()->frame();
+    stats.diverged_frame = runs.front()->diverged_frame();
     return stats;
 }
 

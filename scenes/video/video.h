@@ -29,6 +29,8 @@ struct VideoStats {
     double render_ms = 0.0;   // per frame, all tiles
     double physics_ms = 0.0;  // per frame, all tiles
     double seconds = 0.0;     // wall time of the whole video
+    int last_frame = 0;       // the scene frame the video ends on
+    int diverged_frame = -1;  // a recording's: the first frame whose state differs from it; -1: none
 };
 
 // Writes options.output whole or not at all. Throws sim::InputError for bad

@@ -1,5 +1,6 @@
 // The viewer's ImGui panel: the verdict, the step (integrator, dt, substeps,
 // time scale), the overlays, the scene's parameters as sliders, live plots.
+#include "scenes/model/recording.h"
 #include "scenes/view/viewer.h"
 
 #include <imgui.h>
@@ -29,6 +30,17 @@ void Viewer::panel_run_controls() {
     if (ImGui::Button("Reset")) reset();
     note_item("Reset");
     ImGui::Text("%zu stored states to step back through", history_.size());
+    if (def_->recorded) {
+        // Scrub: any frame of the recording, from its nearest stored state.
+        int frame = run_->frame();
+        const int last = static_cast<int>(def_->recorded->hashes.size()) - 1;
+        if (ImGui::SliderInt("recording frame", &frame, 0, last) && frame != run_->frame()) seek(frame);
+        note_item("recording frame");
+        if (run_->diverged_frame() >= 0) {
+            ImGui::TextColored(ImVec4(0.9f, 0.1f, 0.1f, 1), "DIVERGED from the recording at frame %d",
+                               run_->diverged_frame());
+        }
+    }
     ImGui::SliderFloat("speed", &time_scale_, 1.0f / 64.0f, 4.0f, "%.3fx", ImGuiSliderFlags_Logarithmic);
     note_item("speed");
 }

@@ -141,6 +141,10 @@ public:
     void to_panel() {
         ImGuiIO& io = ImGui::GetIO();
 #if IMGUI_VERSION_NUM >= 18700
+        // Every event of a frame in that frame (ImGui would otherwise defer a
+        // click that follows a key, so that ctrl+click would reach it as a
+        // plain click a frame later).
+        io.ConfigInputTrickleEventQueue = false;
         io.AddMousePosEvent(static_cast<float>(x_), static_cast<float>(y_));
         for (int b = 0; b < 3; ++b) io.AddMouseButtonEvent(b, down_[b]);
 #if IMGUI_VERSION_NUM >= 18900
@@ -339,8 +343,8 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         context->swap_buffers();
         if (done) break;
     }
-    return {viewer.run().frame(), viewer.run().time(), viewer.run().verdict().exploded(),
-            viewer.run().state_hash_hex()};
+    return {viewer.run().frame(), viewer.run().time(), viewer.run().verdict().exploded(), viewer.run().state_hash_hex(),
+            viewer.run().diverged_frame()};
 }
 
 }  // namespace scenes

@@ -41,7 +41,8 @@ struct ViewResult {
     int frame = 0;      // the scene frame shown last
     double time = 0.0;  // s, its simulated time
     bool exploded = false;
-    std::string state_hash;  // hex, as `run --json` prints it: the same frame gives the same bits
+    std::string state_hash;   // hex, as `run --json` prints it: the same frame gives the same bits
+    int diverged_frame = -1;  // a recording's: the first frame whose state differed from it; -1: none
 };
 
 // Opens the window and runs until it is closed (or after exit_after frames).

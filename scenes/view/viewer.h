@@ -254,6 +254,16 @@ private:
         run_->advance();
     }
 
+    // A recording's frame (the panel's slider): the nearest stored state,
+    // then steps; paused there. Stepping back goes on from it.
+    void seek(int frame) {
+        paused_ = true;
+        history_.clear();
+        history_bytes_ = 0;
+        if (!run_->seek(frame)) report("cannot go to frame " + std::to_string(frame) + " of the recording");
+        reapply_drag();
+    }
+
     void step_back() {
         paused_ = true;
         if (history_.empty()) return;

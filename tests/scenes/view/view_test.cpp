@@ -241,6 +241,27 @@ TEST_F(View, APanelSliderRebuildsTheSceneWithItsValue) {
     EXPECT_NE(field(r.out, "state"), hash_after_60({})) << "the slider changed nothing: " << r.out;
 }
 
+// A recording in the viewer: the panel's "recording frame" slider goes to
+// frame 150 (the nearest stored state, then steps), and what is shown there
+// is the scene's frame 150, bit for bit; replayed, it has not diverged.
+TEST_F(View, ARecordingIsScrubbedToAnyFrame) {
+    ASSERT_EQ(shell("cd '" + dir_.string() + "' && " PLAUSIBLE_EXE " run pendulum --frames 200 --record p.rec").status,
+              0);
+    const Ran r = play("p.rec", "--size 1280x720", R"(
+5 move @recording frame
+6 press left ctrl
+7 release left
+8 key ctrl+a
+9 text 150
+10 key Return
+13 key q
+)");
+    ASSERT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(field(r.out, "frame"), "150") << r.out;
+    EXPECT_EQ(field(r.out, "state"), reference("pendulum", 150, 16, 16).hash) << r.out;
+    EXPECT_NE(r.out.find("identical to the recorded state hashes"), std::string::npos) << r.out;
+}
+
 // Left-drag on the pendulum's bob: the mouse spring grabs it and pulls it
 // away from where the undisturbed run has it.
 TEST_F(View, MouseDragGrabsTheBobAndPullsIt) {
