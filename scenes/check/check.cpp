@@ -1,6 +1,7 @@
 #include "scenes/check/check.h"
 
 #include "render/font.h"
+#include "scenes/draw/run_recorder.h"
 #include "scenes/draw/scene_run.h"
 #include "scenes/model/recording.h"
 
@@ -471,6 +472,16 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
             judge_missing(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
         } else {
             judge_against_golden(c, scene, strip, golden, *fingerprint, options, golden_dir, evidence);
+        }
+        const bool physics_changed = c.changed_frame >= 0 || c.first_hash_mismatch >= 0;
+        if ((c.status == SceneCheck::Status::fail && physics_changed && c.hashes_comparable()) ||
+            c.status == SceneCheck::Status::exploded) {
+            // The evidence a CI job's artifact carries: the actual run, to scrub locally.
+            fs::create_directories(report_dir / scene.name);
+            const int last = scene.checkpoints.empty() ? scene.frames : scene.checkpoints.back();
+            write_recording(report_dir / scene.name / "actual.rec", record_scene(scene, last));
+            c.actual_recording = scene.name + "/actual.rec";
+            c.message += "; the actual run, to scrub: plausible view " + (report_dir / c.actual_recording).string();
         }
         if (strip.diverged_frame >= 0) {
             // A recording given as the scene, replayed here: it parted from what was recorded.

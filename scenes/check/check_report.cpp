@@ -75,6 +75,7 @@ nlohmann::json to_json(const SceneCheck& c) {
         j["physics_change"] = nullptr;
     }
     if (!c.hashes_note.empty()) j["frame_hashes_note"] = c.hashes_note;
+    j["actual_recording"] = c.actual_recording.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.actual_recording);
     if (c.image) {
         const render::GoldenDiff& d = *c.image;
         j["image"] = {{"identical", d.identical},
@@ -126,12 +127,19 @@ document.querySelectorAll('img.flicker').forEach(function (img) {
 });
 )";
 
-std::string scene_html(const SceneCheck& c) {
+std::string scene_html(const SceneCheck& c, const fs::path& dir) {
     std::ostringstream h;
     h << "<div class=\"scene " << status_name(c.status) << "\" id=\"" << escape(c.scene) << "\">\n<h2>"
       << escape(c.scene) << "<span class=\"status\">" << status_name(c.status)
       << "</span></h2>\n<div class=\"message\">" << escape(c.message) << "</div>\n";
     if (c.image) h << "<div>image: " << escape(c.image->summary) << "</div>\n";
+    if (!c.actual_recording.empty()) {
+        h << "<div>The actual run is kept as a recording, <a href=\"" << escape(c.actual_recording) << "\">"
+          << escape(c.actual_recording) << "</a>: step and scrub through it frame by frame with <code>plausible view "
+          << escape((dir / c.actual_recording).string())
+          << "</code> (a CI job's artifact: from where you unpacked it), "
+          << "or replay it with <code>plausible run</code> or <code>render</code>.</div>\n";
+    }
     if (c.changed_frame >= 0) {
         h << "<table><tr><th>physics first changed at</th><th>substep</th><th>t (s)</th><th>objects that differ"
           << (c.objects_frame >= 0 ? " (at frame " + std::to_string(c.objects_frame) + ")" : "")
@@ -232,7 +240,7 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
         html << "<span>" << status_name(s) << ": " << counts[static_cast<int>(s)] << "</span>";
     }
     html << "</div>\n";
-    for (const SceneCheck* c : order) html << scene_html(*c);
+    for (const SceneCheck* c : order) html << scene_html(*c, dir);
     html << "<script>" << kScript << "</script>\n</body></html>\n";
     render::write_file_atomically(dir / "report.json", report.dump(2) + "\n");
     render::write_file_atomically(dir / "index.html", html.str());

@@ -36,6 +36,7 @@ struct SceneCheck {
     int objects_frame = -1;                      // the frame where the objects were compared; -1: none
     std::vector<std::string> changed_objects;    // the objects that differ there, by their scene names
     std::string hashes_note;                     // why the frame-by-frame hashes were not compared; "" when they were
+    std::string actual_recording;  // the actual run as a recording (run --record), relative to the report; "" none
     std::string expected_png, actual_png, diff_png, side_png;  // relative to the report folder; empty: not written
     std::string fingerprint_expected, fingerprint_actual;      // renderer fingerprints, one line each
     std::string arch_expected, arch_actual;                    // the golden's and this build's architecture

@@ -6,6 +6,7 @@
 
 #include "scenes/common/interrupt.h"
 #include "scenes/common/progress.h"
+#include "scenes/draw/run_recorder.h"
 #include "scenes/draw/scene_run.h"
 
 #include <nlohmann/json.hpp>
@@ -93,38 +94,6 @@ private:
     std::ofstream out_;
 };
 
-// --record FILE: the run kept as a recording (scenes/model/recording.h):
-// the scene's text and overrides, the state hash after every frame and the
-// World's state every K frames; written at the end (atomically).
-class Recorder {
-public:
-    Recorder(std::string path, const SceneDef& scene) : path_(std::move(path)) {
-        rec_.scene_name = scene.name;
-        rec_.scene_file = scene.file.string();
-        rec_.scene_text = scene.text;
-        rec_.overrides = scene.overrides;
-        rec_.step = scene.step;
-        frames_ = scene.frames;
-    }
-    void frame(const SceneRun& run) {
-        rec_.hashes.push_back(run.state_hash());
-        if (run.frame() == 0) {
-            // K from the size of a state: the states stay within a few MB.
-            rec_.every = recording_interval(frames_, snapshot_bytes(run.world().snapshot()));
-        }
-        if (run.frame() % rec_.every == 0) rec_.states.emplace_back(run.frame(), run.world().snapshot());
-    }
-    void commit(const SceneRun& run) {
-        rec_.frames = run.frame();
-        write_recording(path_, rec_);
-    }
-
-private:
-    std::string path_;
-    Recording rec_;
-    int frames_ = 0;
-};
-
 // The energy over a run, J: at the start, and its range over every frame.
 struct EnergyRange {
     double initial = 0.0, min = 0.0, max = 0.0;
@@ -136,7 +105,7 @@ struct EnergyRange {
 // frame's rows to `csv` when there is one; returns the energy range. On a
 // terminal a progress bar on stderr says how far it is and how long is left
 // (a large scene runs for minutes; without it a run looks hung).
-EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv, Recorder* recorder) {
+EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv, RunRecorder* recorder) {
     EnergyRange energy(run.world().energy());
     if (csv) csv->rows(run);
     if (recorder) recorder->frame(run);
@@ -281,11 +250,11 @@ int run_scene(const RunArgs& args) {
     std::optional<InterruptScope> interrupts;
     std::optional<CsvWriter> csv;
     if (args.csv) interrupts.emplace(), csv.emplace(*args.csv, !scene.model.rigid.bodies.empty());
-    std::optional<Recorder> recorder;
-    if (args.record) recorder.emplace(*args.record, scene);
+    std::optional<RunRecorder> recorder;
+    if (args.record) recorder.emplace(scene, scene.frames);
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr, recorder ? &*recorder : nullptr);
     if (csv) csv->commit();
-    if (recorder) recorder->commit(run);
+    if (recorder) write_recording(*args.record, recorder->recording());
     const Summary summary{
         scene, run, energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run)};
     if (args.json) {

@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -95,6 +96,18 @@ TEST(PhysicsChange, AOneObjectChangeNamesThatObjectAndItsFirstFrame) {
     EXPECT_EQ(c.at("frame"), first);
     EXPECT_EQ(c.at("objects"), nlohmann::json::array({"rope"}));
     EXPECT_EQ(c.at("substeps"), 4);
+
+    // The evidence: the actual run as a recording beside the report, which
+    // replays to the same hashes, and the HTML says how to open it.
+    EXPECT_EQ(j.at("scenes").at(0).at("actual_recording"), "showcase/actual.rec");
+    const fs::path rec = report / "showcase" / "actual.rec";
+    EXPECT_NE(out.find("plausible view " + rec.string()), std::string::npos) << out;
+    const test::Ran replay = test::shell(exe + " run " + rec.string());
+    EXPECT_EQ(replay.status, 0) << replay.out;
+    EXPECT_NE(replay.out.find("identical to the recorded state hashes"), std::string::npos) << replay.out;
+    std::ifstream html_in(report / "index.html");
+    const std::string html((std::istreambuf_iterator<char>(html_in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(html.find("plausible view " + rec.string()), std::string::npos);
     fs::remove_all(dir);
 }
 
