@@ -1,5 +1,7 @@
 // Recordings through the real command: `run SCENE --record FILE` writes one
-// that `run`, `render` and `check` replay with every frame's hash identical,
+// that `run`, `render` and `check` replay with every frame's hash identical
+// (`video` and `view` replay them too: the tampered one below, and
+// tests/scenes/view),
 // rendering the same bytes as the scene; a recording tampered with (one
 // frame's recorded hash changed, its checksum made good again, as a
 // recording from a machine that computed another state would be) is
@@ -100,7 +102,8 @@ TEST_F(Record, ATamperedRecordingDivergesAtThatFrame) {
     ASSERT_EQ(plausible("run rope --frames 80 --record r.rec").status, 0);
     const int frame = 57;
     std::ofstream(dir_ / "t.rec", std::ios::binary) << tampered(bytes_of(dir_ / "r.rec"), frame);
-    for (const std::string command : {"run t.rec", "render t.rec --frames 80 --out t", "check t.rec --physics-only"}) {
+    for (const std::string command : {"run t.rec", "render t.rec --frames 80 --out t", "check t.rec --physics-only",
+                                      "video t.rec -o t.mp4 --size 160x120 --fps 60 --seconds 1.2"}) {
         const test::Ran r = plausible(command);
         EXPECT_EQ(r.status, 1) << command << ": " << r.out;
         const std::string at = "iverged at frame " + std::to_string(frame);  // DIVERGED (run, render), diverged (check)
