@@ -4,8 +4,9 @@
 //   3. explicit one-stage methods: forward Euler, symplectic Euler
 //   4. Verlet family: leapfrog, velocity Verlet, Störmer (position) Verlet
 //   5. explicit Runge-Kutta from a Butcher tableau: RK4
-//   6. backward Euler (one Newton step on the linearised forces)
-//   7. the table's look-ups
+//   6. the table's look-ups
+// (Backward Euler, one Newton step on the linearised forces, is in
+// backward_euler.cpp.)
 //
 // Notation: h is the step, x and v the state at t, a = M⁻¹ f(t, x, v).
 // "Order" is the global order of the position error at a fixed end time.
@@ -22,13 +23,8 @@
 #include "sim/cpu.h"
 #include "sim/watchdog.h"
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
-#include <Eigen/SparseLU>
-
 #include <algorithm>
 #include <iterator>
-#include <stdexcept>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -47,13 +43,6 @@ namespace {
 // a few particles where the CPU has it, for AVX2, four doubles a register
 // instead of two. Products and sums are correctly rounded at any width and
 // nothing is fused (-ffp-contract=off), so both give the same bits (tested).
-
-// A few particles go one at a time, at the pinned width (no vector loop to
-// set up: a one-particle step costs ~100 ns).
-constexpr std::size_t kFewParticles = 16;
-
-// Whether this block's loops run their AVX2 builds.
-bool wide_loops(const StepArrays& s) { return s.wide && s.x.n > kFewParticles; }
 
 // The last kick of leapfrog and velocity Verlet, v += alpha a, with the
 // watchdog's per-particle rules on each particle's final x and v when kWatch
@@ -77,7 +66,7 @@ void kick_loop(const double* __restrict x0, const double* __restrict x1, const d
 void last_kick(const StepArrays& s, double alpha, const Vec3Span& a) {
     auto run = [&](auto watch_constant) {
         run_at_width(
-            wide_loops(s), [](auto... p) { kick_loop<decltype(watch_constant)::value>(p...); }, s.x.c[0], s.x.c[1],
+            s.wide_loops(), [](auto... p) { kick_loop<decltype(watch_constant)::value>(p...); }, s.x.c[0], s.x.c[1],
             s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], a.c[0], a.c[1], a.c[2], s.x.n, alpha, s.watch);
     };
     s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
@@ -176,7 +165,7 @@ void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const doub
                     const UniformField& field, Rule rule) {
     auto run = [&](auto fresh_constant, auto watch_constant) {
         run_at_width(
-            wide_loops(s),
+            s.wide_loops(),
             [](auto... a) {
                 field_loop<kQuadratic, kMemory, decltype(fresh_constant)::value, decltype(watch_constant)::value, Rule>(
                     a...);
@@ -228,7 +217,7 @@ template <class Rule>
 void given_acceleration_pass(const StepArrays& s, Vec3Span memory, ConstVec3Span a, Rule rule) {
     auto run = [&](auto has_memory, auto fresh, auto watch) {
         run_at_width(
-            wide_loops(s),
+            s.wide_loops(),
             [](auto... p) {
                 given_loop<decltype(has_memory)::value, decltype(fresh)::value, decltype(watch)::value, Rule>(p...);
             },
@@ -337,7 +326,7 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
     run_at_width(
-        wide_loops(s), [](auto... a) { kick_drift_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1],
+        s.wide_loops(), [](auto... a) { kick_drift_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1],
         s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
     dynamics.acceleration(t + h, s.first, s.x, s.v, s.a);
     last_kick(s, 0.5 * h, s.a);
@@ -364,7 +353,7 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     ensure_acceleration(dynamics, s, t);
     const Vec3Span v_predicted = s.scratch(0);
     run_at_width(
-        wide_loops(s), [](auto... a) { verlet_first_half_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
+        s.wide_loops(), [](auto... a) { verlet_first_half_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
         s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0], v_predicted.c[1], v_predicted.c[2], s.x.n,
         h);
     dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
@@ -519,7 +508,7 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
 template <const auto& kTableau, std::size_t I>
 void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     run_at_width(
-        wide_loops(s),
+        s.wide_loops(),
         [](const StepArrays* block, Vec3Span x, const Vec3Span* v, const Vec3Span* a, double step) {
             array_stage<kTableau, I>(*block, x, v, a, step, std::make_index_sequence<I>{});
         },
@@ -528,7 +517,7 @@ void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage
 template <const auto& kTableau>
 void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     run_at_width(
-        wide_loops(s),
+        s.wide_loops(),
         [](const StepArrays* block, const Vec3Span* v, const Vec3Span* a, double step) {
             step_pass<kTableau>(*block, v, a, step);
         },
@@ -587,117 +576,7 @@ void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     explicit_runge_kutta<kClassicRk4>(dynamics, s, t, h);
 }
 
-// 6. Backward Euler ------------------------------------------------------------
-
-// Backward (implicit) Euler, order 1:
-//   v' = v + h M⁻¹ f(t + h, x', v'),   x' = x + h v'
-// linearised once around (x, v) (Baraff and Witkin 1998), one Newton step:
-//   (M - h ∂f/∂v - h² ∂f/∂x) Δv = h (f + h ∂f/∂x v)
-//   v' = v + Δv,   x' = x + h v'
-// The 3n x 3n system (row 3i + k) is sparse and symmetric; a pinned particle's
-// rows and columns become identity with Δv = 0. Solved by sparse LDLᵀ, with
-// sparse LU as the fallback when LDLᵀ meets a zero pivot. Unconditionally
-// stable for springs; it damps, so an oscillator loses energy.
-namespace {
-
-// Backward Euler when the force is gravity and at most one linear drag: the
-// system is diagonal, (m + h c) Δv = h f for each coordinate, and solved
-// particle by particle with the arithmetic the sparse solve does on it
-// (its diagonal is the triplets' sum h c + m; LDLᵀ of a diagonal matrix
-// solves by the inverse, Δv = (1/d) · h f), so with the same bits (tested)
-// and without assembling and factoring a 3n x 3n matrix.
-void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
-                             double* __restrict v1, double* __restrict v2, const double* __restrict mass,
-                             const double* __restrict inv_mass, std::size_t n, const UniformField& field, double h) {
-    const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c;
-    for (std::size_t i = 0; i < n; ++i) {
-        const FieldForce f = field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
-        // A pinned particle's right-hand side is zero (its row the identity
-        // in the sparse system: any d > 0 gives the same zero); the factor
-        // 1 or 0 keeps the loop free of branches.
-        const double free = static_cast<double>(inv_mass[i] != 0.0);
-        const double inverse = 1.0 / (h * c + mass[i]);
-        v0[i] += inverse * ((h * f.x) * free);
-        v1[i] += inverse * ((h * f.y) * free);
-        v2[i] += inverse * ((h * f.z) * free);
-        x0[i] += h * v0[i];
-        x1[i] += h * v1[i];
-        x2[i] += h * v2[i];
-    }
-}
-
-}  // namespace
-
-void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    const std::size_t n = s.x.n;
-    if (const UniformField* field = dynamics.uniform_field();
-        field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
-        run_at_width(
-            wide_loops(s), [](auto... a) { backward_euler_diagonal(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
-            s.v.c[1], s.v.c[2], dynamics.mass() + s.first, dynamics.inv_mass() + s.first, n, *field, h);
-        dynamics.count_evaluations(n);
-        return;
-    }
-    const auto size = static_cast<Eigen::Index>(3 * n);
-    Jacobians jac;
-    const Vec3Span force = s.scratch(0);
-    dynamics.force_and_jacobians(t, s.first, s.x, s.v, force, jac);
-    const double* mass = dynamics.mass() + s.first;
-    const double* inv_mass = dynamics.inv_mass() + s.first;
-    auto pinned = [&](int row) { return inv_mass[row / 3] == 0.0; };
-
-    Eigen::VectorXd rhs(size);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            rhs[static_cast<Eigen::Index>(3 * i) + k] = h * force.c[k][i];
-        }
-    }
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(jac.dfdx.size() + jac.dfdv.size() + 3 * n);
-    for (const auto& e : jac.dfdx) {
-        // h² ∂f/∂x v on the right, -h² ∂f/∂x on the left
-        rhs[e.row()] += h * h * e.value() * s.v.c[e.col() % 3][static_cast<std::size_t>(e.col() / 3)];
-        if (!pinned(e.row()) && !pinned(e.col())) {
-            entries.emplace_back(e.row(), e.col(), -h * h * e.value());
-        }
-    }
-    for (const auto& e : jac.dfdv) {
-        if (!pinned(e.row()) && !pinned(e.col())) {
-            entries.emplace_back(e.row(), e.col(), -h * e.value());
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            const int row = static_cast<int>(3 * i) + k;
-            entries.emplace_back(row, row, inv_mass[i] == 0.0 ? 1.0 : mass[i]);
-            if (inv_mass[i] == 0.0) {
-                rhs[row] = 0.0;
-            }
-        }
-    }
-    Eigen::SparseMatrix<double> system(size, size);
-    system.setFromTriplets(entries.begin(), entries.end());
-
-    Eigen::VectorXd dv;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(system);
-    if (ldlt.info() == Eigen::Success) {
-        dv = ldlt.solve(rhs);
-    } else {
-        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(system);
-        if (lu.info() != Eigen::Success) {
-            throw std::runtime_error("backward_euler: the linearised system is singular");
-        }
-        dv = lu.solve(rhs);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) {
-            s.v.c[k][i] += dv[static_cast<Eigen::Index>(3 * i) + k];
-            s.x.c[k][i] += h * s.v.c[k][i];
-        }
-    }
-}
-
-// 7. Look-ups -------------------------------------------------------------------
+// 6. Look-ups -------------------------------------------------------------------
 
 std::optional<Integrator> integrator_from_name(std::string_view name) {
     for (const IntegratorInfo& info : kIntegrators) {

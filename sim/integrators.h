@@ -53,7 +53,7 @@ struct StepArrays {
     bool memory_valid = false;
     Vec3Array* temporaries = nullptr;  // (the method's scratch_arrays) each of at least x.n points
     // Run the loops' AVX2 builds (sim/cpu.h: the same bits), on a block of
-    // more than a few particles; only where the CPU has AVX2.
+    // more than a few particles (wide_loops); only where the CPU has AVX2.
     bool wide = false;
     // The watchdog's per-particle rules (sim/watchdog.h, is_suspect), when the
     // World asks for them: a fused pass (uniform field) applies them to each
@@ -70,6 +70,12 @@ struct StepArrays {
 
     // Temporary k for this block, contents undefined.
     Vec3Span scratch(std::size_t k) const { return temporaries[k].span().block(0, x.n); }
+
+    // A few particles go one at a time, at the pinned width (no vector loop
+    // to set up: a one-particle step costs ~100 ns).
+    static constexpr std::size_t kFewParticles = 16;
+    // Whether this block's loops run their AVX2 builds.
+    bool wide_loops() const { return wide && x.n > kFewParticles; }
 };
 
 // Advances the block from time t by one step h > 0.
