@@ -9,6 +9,7 @@
 // linear light and encoded back.
 #include "render/renderer_impl.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -66,6 +67,25 @@ float pixel_scale(const Camera& camera, int height) {
 
 }  // namespace
 
+namespace {
+
+// The passes' clock (Renderer::time_passes): lap(t) waits for the GPU and
+// adds the time since the last lap to t, ms; off, it does nothing.
+struct PassClock {
+    const GladGLContext& gl;
+    bool on;
+    std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+    void lap(double& ms) {
+        if (!on) return;
+        gl.Finish();
+        const auto now = std::chrono::steady_clock::now();
+        ms += 1e3 * std::chrono::duration<double>(now - last).count();
+        last = now;
+    }
+};
+
+}  // namespace
+
 void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) {
     check_settings(settings);
     check_camera(list.camera);
@@ -73,22 +93,34 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     check_driver_limits(settings);
     ensure_targets(settings.width, settings.height, settings.msaa_samples > 1 ? settings.msaa_samples : 0);
     stats = {};
+    if (time_passes) gl.Finish();  // the last frame's work is not this one's
+    PassClock clock{gl, time_passes};
+    PassTimes& t = stats.passes;
     const detail::Viewpoint camera = camera_viewpoint(list.camera, settings);
     prepare(list, camera.eye, camera.forward);
+    clock.lap(t.prepare);
 
     gl.Disable(GL_CULL_FACE);  // thin cloth and open tubes are seen from both sides
     gl.Enable(GL_DEPTH_TEST);
     gl.DepthFunc(GL_LESS);
     const detail::ShadowLookup shadow = shadow_pass(list.light, settings.shadow_map_size);
+    clock.lap(t.shadow);
     begin_main_pass(list, camera, shadow, pixel_scale(list.camera, settings.height));
     ground_pass(list);
+    clock.lap(t.ground);
     opaque_pass();
+    clock.lap(t.opaque);
     impostor_pass();
+    clock.lap(t.impostors);
     translucent_pass();
+    clock.lap(t.translucent);
     trail_pass(camera.view_proj);
+    clock.lap(t.trails);
     overlay_pass();
+    clock.lap(t.overlays);
     end_main_pass();
     resolve_msaa();
+    clock.lap(t.resolve);
     gl.BindVertexArray(0);
     check_errors("drawing a frame");
     has_frame = true;
@@ -132,7 +164,13 @@ void Renderer::draw(const DrawList& list, const RenderSettings& settings) { impl
 
 Image Renderer::read_back(int channels) {
     if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
-    return read_pixels(impl_->resolve_fbo, channels, "reading the frame back");
+    const auto start = std::chrono::steady_clock::now();
+    Image image = read_pixels(impl_->resolve_fbo, channels, "reading the frame back");
+    if (impl_->time_passes) {
+        impl_->stats.passes.read_back =
+            1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    return image;
 }
 
 Image Renderer::read_window(int channels) {
@@ -200,5 +238,7 @@ void Renderer::finish() {
 }
 
 Renderer::FrameStats Renderer::last_frame() const { return impl_->stats; }
+
+void Renderer::time_passes(bool on) { impl_->time_passes = on; }
 
 }  // namespace render

@@ -50,11 +50,34 @@ public:
     // on top), at the last frame's size: a screenshot, taken before the swap.
     Image read_window(int channels = 3);
 
+    // A frame's time pass by pass, ms, while time_passes(true): each pass
+    // then waits for the GPU (llvmpipe's threads: glFinish) before its clock
+    // is read, so that its time is its own. The frame runs a little slower
+    // so, and nothing overlaps: for choosing what to speed up, not for the
+    // frame rate.
+    struct PassTimes {
+        double prepare = 0;      // the draw list flattened and uploaded
+        double shadow = 0;       // the shadow map
+        double ground = 0;       // begin (targets, clear, uniforms) and the ground
+        double opaque = 0;       // solid meshes
+        double impostors = 0;    // ray-cast spheres
+        double translucent = 0;  // ghosts
+        double trails = 0;       // ribbons
+        double overlays = 0;     // text and plots
+        double resolve = 0;      // MSAA resolve
+        double read_back = 0;    // read_back(), when called
+        double total() const {
+            return prepare + shadow + ground + opaque + impostors + translucent + trails + overlays + resolve +
+                   read_back;
+        }
+    };
     struct FrameStats {
         std::size_t triangles = 0;  // including the shadow pass
         std::size_t draw_calls = 0;
+        PassTimes passes;  // all zero unless time_passes(true)
     };
     FrameStats last_frame() const;
+    void time_passes(bool on);
 
 private:
     Image read_pixels(unsigned framebuffer, int channels, const char* what);

@@ -134,6 +134,7 @@ struct Renderer::Impl {
     detail::OverlayBatch overlay;
     FrameStats stats;
     bool has_frame = false;
+    bool time_passes = false;  // Renderer::time_passes
 
     Impl(GlContext& c, const Font& f) : context(c), gl(c.gl()), font(f), overlay(f) {}
 

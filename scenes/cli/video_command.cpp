@@ -30,6 +30,15 @@ int video(VideoArgs& a) {
     const VideoStats v = write_video(scene, a.scene.overrides(), a.options);
     std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
                 a.out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
+    if (a.options.verbose) {
+        const render::Renderer::PassTimes& p = v.passes;
+        std::printf(
+            "video: per frame, pass by pass (ms, each pass waiting for the renderer): prepare %.2f, shadow "
+            "%.2f, ground %.2f, opaque %.2f, impostors %.2f, translucent %.2f, trails %.2f, overlays %.2f, "
+            "MSAA resolve %.2f, read-back %.2f; encoder wait %.2f\n",
+            p.prepare, p.shadow, p.ground, p.opaque, p.impostors, p.translucent, p.trails, p.overlays, p.resolve,
+            p.read_back, v.encode_ms);
+    }
     return report_replay(scene, v.diverged_frame, v.last_frame);
 }
 
@@ -49,6 +58,9 @@ Command add_video(CLI::App& app) {
                     "Tiles side by side in lock step, comma-separated: integrators (forward_euler,symplectic_euler) "
                     "or --set variants (step.substeps=1,step.substeps=8)");
     cmd->add_flag("!--no-caption", args->options.caption, "No description across the bottom for the first seconds");
+    cmd->add_flag("--verbose", args->options.verbose,
+                  "Time each frame pass by pass (shadow, opaque, impostors, overlays, MSAA resolve, read-back) and "
+                  "the wait for the encoder, and print them (each pass then waits for the renderer: a little slower)");
     return {cmd, [args] { return video(*args); }};
 }
 

@@ -166,6 +166,15 @@ void title_card(render::Image& frame, const SceneDef& scene, const std::vector<s
     render::draw_text(frame, font, order, left, y, size, light);
 }
 
+// into += scale x from, pass by pass.
+void add_passes(render::Renderer::PassTimes& into, const render::Renderer::PassTimes& from, double scale = 1.0) {
+    into.prepare += scale * from.prepare, into.shadow += scale * from.shadow, into.ground += scale * from.ground;
+    into.opaque += scale * from.opaque, into.impostors += scale * from.impostors;
+    into.translucent += scale * from.translucent, into.trails += scale * from.trails;
+    into.overlays += scale * from.overlays, into.resolve += scale * from.resolve;
+    into.read_back += scale * from.read_back;
+}
+
 // One description per tile, each with its variant's overrides (a run holds a
 // reference to its description, so they live apart).
 std::vector<std::unique_ptr<SceneDef>> tile_scenes(const SceneDef& scene, const std::vector<Override>& overrides,
@@ -345,6 +354,9 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
 
     const auto context = render::create_context({});
     render::Renderer renderer(*context);
+    renderer.time_passes(options.verbose);
+    render::Renderer::PassTimes passes;  // ms, summed over the frames
+    double encode = 0.0;                 // s
     const auto start = Clock::now();
     std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
     const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
@@ -369,6 +381,7 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
             texts.add(list, options, static_cast<std::size_t>(i), grid.tile_h, t);
             const render::Image tile =
                 renderer.render(list, {.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4});
+            if (options.verbose) add_passes(passes, renderer.last_frame().passes);
             if (!encoder.started()) {  // the first tile says the pixel format
                 frame.width = options.width;
                 frame.height = options.height;
@@ -385,6 +398,7 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
         physics += std::chrono::duration<double>(p1 - p0).count();
         render_time += std::chrono::duration<double>(p2 - p1).count();
         encoder.write(frame, k);
+        encode += std::chrono::duration<double>(Clock::now() - p2).count();
         if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
         char what[64];
         std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
@@ -397,6 +411,8 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     stats.physics_ms = 1e3 * physics / frames;
     stats.render_ms = 1e3 * render_time / frames;
     stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    stats.encode_ms = 1e3 * encode / frames;
+    add_passes(stats.passes, passes, 1.0 / frames);
     stats.last_frame = runs.front()->frame();
     stats.diverged_frame = runs.front()->diverged_frame();
     return stats;

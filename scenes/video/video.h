@@ -6,6 +6,7 @@
 // --set variants) in lock step, side by side in tiles labelled by their HUD.
 #pragma once
 
+#include "render/renderer.h"
 #include "scenes/model/scene.h"
 
 #include <filesystem>
@@ -22,15 +23,18 @@ struct VideoOptions {
     std::vector<std::string> compare;  // one tile each: an integrator name or a --set variant KEY=VALUE
     bool progress = false;             // a progress bar with frames/s and ETA on stderr
     bool caption = true;               // the scene's description across the bottom for the first seconds
+    bool verbose = false;              // time each frame pass by pass (VideoStats::passes; a little slower)
 };
 
 struct VideoStats {
     int frames = 0;
-    double render_ms = 0.0;   // per frame, all tiles
-    double physics_ms = 0.0;  // per frame, all tiles
-    double seconds = 0.0;     // wall time of the whole video
-    int last_frame = 0;       // the scene frame the video ends on
-    int diverged_frame = -1;  // a recording's: the first frame whose state differs from it; -1: none
+    double render_ms = 0.0;              // per frame, all tiles
+    double physics_ms = 0.0;             // per frame, all tiles
+    double seconds = 0.0;                // wall time of the whole video
+    int last_frame = 0;                  // the scene frame the video ends on
+    int diverged_frame = -1;             // a recording's: the first frame whose state differs from it; -1: none
+    double encode_ms = 0.0;              // per frame: waiting for ffmpeg to take the frame
+    render::Renderer::PassTimes passes;  // per frame, all tiles, ms (options.verbose; else zero)
 };
 
 // Writes options.output whole or not at all. Throws sim::InputError for bad

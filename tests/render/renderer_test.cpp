@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace render {
@@ -181,6 +182,28 @@ TEST_F(RendererTest, TheSameListGivesTheSameBytes) {
         const Image b = renderer_->render(list, settings);
         EXPECT_EQ(a.pixels, b.pixels) << "MSAA " << samples;
     }
+}
+
+// Timing a frame pass by pass (video --verbose, bench_render) changes no
+// pixel, and gives each pass that drew something a time; off, none.
+TEST_F(RendererTest, PassTimesAreMeasuredOnlyWhenAskedAndChangeNoPixel) {
+    DrawList list = testing::lecture_scene();
+    testing::place_plot(list, 320, 240);
+    const RenderSettings settings{.width = 320, .height = 240, .msaa_samples = 4};
+    const Image plain = renderer_->render(list, settings);
+    EXPECT_EQ(renderer_->last_frame().passes.total(), 0.0) << "not timed unless asked";
+    renderer_->time_passes(true);
+    const Image timed = renderer_->render(list, settings);
+    const Renderer::PassTimes t = renderer_->last_frame().passes;
+    renderer_->time_passes(false);
+    EXPECT_EQ(timed.pixels, plain.pixels) << "timing changes no pixel";
+    for (const auto& [name, ms] :
+         {std::pair{"shadow", t.shadow}, std::pair{"ground", t.ground}, std::pair{"impostors", t.impostors},
+          std::pair{"overlays", t.overlays}, std::pair{"resolve", t.resolve}, std::pair{"read-back", t.read_back}}) {
+        EXPECT_GT(ms, 0.0) << name << " (ms)";
+    }
+    renderer_->render(list, settings);
+    EXPECT_EQ(renderer_->last_frame().passes.total(), 0.0) << "off again";
 }
 
 TEST_F(RendererTest, RefusesBadSizesAndSampleCounts) {
