@@ -38,6 +38,7 @@ public:
     }
     void i32(int v) { u32(static_cast<std::uint32_t>(v)); }
     void f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
+    void raw(std::string_view b) { bytes_ += b; }
     void text(const std::string& s) {
         u32(static_cast<std::uint32_t>(s.size()));
         bytes_ += s;
@@ -251,7 +252,7 @@ std::size_t snapshot_bytes(const sim::World::Snapshot& snapshot) {
 
 void write_recording(const fs::path& file, const Recording& rec) {
     Writer out;
-    out.u8('P'), out.u8('L'), out.u8('S'), out.u8('B'), out.u8('L'), out.u8('R'), out.u8('E'), out.u8('C');
+    out.raw(std::string_view(kMagic, sizeof kMagic));
     out.u32(Recording::kVersion);
     out.u32(kByteOrder);
     Writer scene;
@@ -320,8 +321,7 @@ Recording read_recording(const fs::path& path) {
     Recording rec;
     bool scene = false, step = false, hashes = false;
     for (std::size_t pos = 16;;) {
-        Reader section(file, bytes, 0, "a section's header");
-        section.take(pos);
+        Reader section(file, std::string_view(bytes).substr(pos), pos, "a section's header");
         const std::string tag(section.take(4));
         const std::size_t length = section.count();
         const std::size_t start = pos + 12;

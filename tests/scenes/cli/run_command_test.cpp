@@ -40,11 +40,6 @@ struct BodyRow {
 
 class RunCsv : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("plausible-run-csv-" + std::to_string(getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
     // The CSV's lines, after `plausible run SCENE --frames N --csv`.
     std::vector<std::string> csv(const std::string& scene, int frames) {
         const fs::path file = dir_ / (scene + ".csv");
@@ -56,7 +51,8 @@ protected:
         for (std::string line; std::getline(in, line);) lines.push_back(line);
         return lines;
     }
-    fs::path dir_;
+    test::TempDir temp_{"plausible-run-csv"};
+    const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(RunCsv, ParticleScenesKeepTheirColumns) {

@@ -3,6 +3,7 @@
 // is refused with an InputError naming the file (never a crash, never a
 // recording that reads wrong); the scene it replays is the scene it ran.
 #include "scenes/model/recording.h"
+#include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
 
@@ -40,12 +41,6 @@ stiffness = 40
 
 class RecordingFile : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("plausible-recording-test-" + std::to_string(getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     // A recording of kScene's first frames, states every 4 (made by hand: the
     // format is what is tested here; the command's recordings in
     // tests/scenes/cli/record_test.cpp).
@@ -82,7 +77,8 @@ protected:
         }
         return "";
     }
-    fs::path dir_;
+    test::TempDir temp_{"plausible-recording-test"};
+    const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(RecordingFile, ReadsBackWhatWasWritten) {

@@ -42,12 +42,6 @@ std::string field(const std::string& out, const std::string& key) {
 
 class View : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("plausible-view-test-" + std::to_string(getpid()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
     // Runs `script` (sh) on a virtual display of its own; $VIEW is the command.
     // In the sanitize build the viewer runs without LeakSanitizer: glfwTerminate
     // unloads Mesa's GLX driver (swrast_dri.so) before exit, so Mesa's
@@ -100,7 +94,8 @@ protected:
                             << 100 * d.large_share << "% of pixels over 3 levels";
     }
 
-    fs::path dir_;
+    test::TempDir temp_{"plausible-view-test"};
+    const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(View, WithoutADisplayExits2AndSaysHowToGetAPicture) {
