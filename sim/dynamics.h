@@ -47,6 +47,10 @@ public:
     virtual const UniformField* uniform_field() const { return nullptr; }
     virtual void count_evaluations(std::size_t /*particles*/) {}
 
+    // True when no force reads a particle's velocity (no drag, no damper):
+    // an integrator may then skip predicting the velocity a force would see.
+    virtual bool velocity_free() const { return false; }
+
     // a = M⁻¹ f(t, x, v) for the particles [first, first + x.n); a pinned
     // particle (inverse mass 0) gets a = 0.
     virtual void acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,

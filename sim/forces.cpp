@@ -30,11 +30,27 @@ void validate_forces(const std::vector<ForceDef>& forces, std::size_t particle_c
     }
 }
 
+namespace {
+
+// The generators whose force never reads v. With a damper of c = 0 a
+// spring's force still adds 0 · (dv · n), which is +0 or -0 for any finite
+// dv and changes no sum (k (|d| - ℓ) is never -0): the same bits whatever v.
+bool reads_no_velocity(const ForceDef& force) {
+    if (const auto* springs = std::get_if<Springs>(&force)) {
+        return std::all_of(springs->list.begin(), springs->list.end(), [](const Spring& s) { return s.c == 0.0; });
+    }
+    return std::holds_alternative<UniformGravity>(force) || std::holds_alternative<NewtonGravity>(force) ||
+           std::holds_alternative<CentralGravity>(force);
+}
+
+}  // namespace
+
 ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                                const std::vector<double>& inv_mass)
     : forces_(&forces), mass_(&mass), inv_mass_(&inv_mass), wide_(avx2_available()) {
     for (const ForceDef& force : forces) {
         all_local_ = all_local_ && std::visit([](const auto& g) { return is_local(g); }, force);
+        velocity_free_ = velocity_free_ && reads_no_velocity(force);
         if (const auto* gravity = std::get_if<UniformGravity>(&force)) {
             field_.g += gravity->g;
         } else if (const auto* drag = std::get_if<LinearDrag>(&force)) {

@@ -47,6 +47,7 @@ public:
     const double* inv_mass() const override { return inv_mass_->data(); }
     const UniformField* uniform_field() const override { return others_.empty() && has_field_ ? &field_ : nullptr; }
     void count_evaluations(std::size_t particles) override { particle_evaluations_ += particles; }
+    bool velocity_free() const override { return velocity_free_; }
 
     // The net force on every particle at (t, x, v), N, pinned ones included:
     // for drawing force arrows (not counted as an evaluation).
@@ -101,6 +102,8 @@ private:
     const std::vector<double>* mass_;
     const std::vector<double>* inv_mass_;
     bool all_local_ = true;
+    // No generator reads v: gravity of any kind, springs without dampers.
+    bool velocity_free_ = true;
     const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
     // The one generator outside the field, if a Springs of a few springs (the
     // reference loop's): on a few particles its acceleration goes straight

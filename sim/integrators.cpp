@@ -82,14 +82,16 @@ void kick_drift_loop(double* __restrict x0, double* __restrict x1, double* __res
     }
 }
 
-// Velocity Verlet's first half: the predicted velocity w = v + h a, the
-// drift x += h v + (h²/2) a, the kick v += (h/2) a.
+// Velocity Verlet's first half: the predicted velocity w = v + h a (when
+// kPredict: a force that reads no velocity needs none), the drift
+// x += h v + (h²/2) a, the kick v += (h/2) a.
+template <bool kPredict>
 void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                             double* __restrict v1, double* __restrict v2, const double* __restrict a0,
                             const double* __restrict a1, const double* __restrict a2, double* __restrict w0,
                             double* __restrict w1, double* __restrict w2, std::size_t n, double h) {
     for (std::size_t i = 0; i < n; ++i) {
-        w0[i] = v0[i] + h * a0[i], w1[i] = v1[i] + h * a1[i], w2[i] = v2[i] + h * a2[i];
+        if constexpr (kPredict) w0[i] = v0[i] + h * a0[i], w1[i] = v1[i] + h * a1[i], w2[i] = v2[i] + h * a2[i];
         x0[i] += h * v0[i] + 0.5 * h * h * a0[i];
         x1[i] += h * v1[i] + 0.5 * h * h * a1[i];
         x2[i] += h * v2[i] + 0.5 * h * h * a2[i];
@@ -351,11 +353,17 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    const Vec3Span v_predicted = s.scratch(0);
-    run_at_width(
-        s.wide_loops(), [](auto... a) { verlet_first_half_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
-        s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0], v_predicted.c[1], v_predicted.c[2], s.x.n,
-        h);
+    // A force that reads no velocity is given the half-kicked one: no
+    // prediction to store.
+    const bool predict = !dynamics.velocity_free();
+    const Vec3Span v_predicted = predict ? s.scratch(0) : s.v;
+    auto run = [&](auto predict_constant) {
+        run_at_width(
+            s.wide_loops(), [](auto... a) { verlet_first_half_loop<decltype(predict_constant)::value>(a...); },
+            s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0],
+            v_predicted.c[1], v_predicted.c[2], s.x.n, h);
+    };
+    predict ? run(std::true_type{}) : run(std::false_type{});
     dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
     last_kick(s, 0.5 * h, s.a);
 }

@@ -2,10 +2,13 @@
 // (memory, force-evaluation counts). Accuracy lives in
 // integrators_accuracy_test.cpp, energy behaviour in integrators_stability_test.cpp.
 #include "sim/integrators.h"
+#include "sim/cpu.h"
+#include "sim/forces.h"
 #include "sim/problems.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -100,6 +103,75 @@ TEST(Memory, ChangingDtRestartsVerletHistory) {
     const auto exact = analytic::ballistic(Vec3::Zero(), kShotVelocity, kShotGravity, world.state().t);
     EXPECT_LT((world.state().x.get(0) - exact.x).norm(), 1e-12) << "m";
     EXPECT_LT((world.state().v.get(0) - exact.v).norm(), 1e-12) << "m/s";
+}
+
+// Forces that read no velocity (springs without dampers, gravity, a central
+// attractor) tell the integrators so, and velocity Verlet then skips
+// predicting the velocity they would see. The skip must change no bit: the
+// same steps through the same forces with the prediction made.
+class PredictingForces final : public Dynamics {
+public:
+    explicit PredictingForces(ParticleForces& forces) : forces_(forces) {}
+    bool velocity_free() const override { return false; }
+    void acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                      const Vec3Span& a) override {
+        forces_.acceleration(t, first, x, v, a);
+    }
+    void force_and_jacobians(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
+                             const Vec3Span& f, Jacobians& jac) override {
+        forces_.force_and_jacobians(t, first, x, v, f, jac);
+    }
+    const double* mass() const override { return forces_.mass(); }
+    const double* inv_mass() const override { return forces_.inv_mass(); }
+
+private:
+    ParticleForces& forces_;
+};
+
+TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
+    for (const std::size_t n : {std::size_t{3}, std::size_t{40}}) {  // the few-particle path and the wide one
+        std::vector<double> mass, inv_mass;
+        Vec3Array x(n), v(n);
+        Springs springs;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double s = static_cast<double>(i);
+            mass.push_back(1.0 + 0.1 * s);
+            inv_mass.push_back(i == 0 ? 0.0 : 1.0 / mass.back());
+            x.set(i, Vec3(1.0 + 0.3 * s, std::sin(s), 0.1 * s));
+            v.set(i, Vec3(std::cos(s), 0.5, -0.2 * s));
+            if (i > 0) springs.list.push_back({0, static_cast<std::uint32_t>(i), i % 2 ? 0.0 : 0.7, 40.0, 0.0});
+        }
+        const std::vector<ForceDef> defs = {UniformGravity{}, springs, CentralGravity{Vec3(0.0, -3.0, 0.0), 5.0}};
+        ParticleForces forces(defs, mass, inv_mass);
+        ASSERT_TRUE(forces.velocity_free());
+        PredictingForces predicting(forces);
+        Vec3Array x2 = x, v2 = v, a(n), a2(n), w(n);
+        for (int step = 0; step < 50; ++step) {
+            auto arrays = [&](Vec3Array& xs, Vec3Array& vs, Vec3Array& as) {
+                return StepArrays{.x = xs.span(),
+                                  .v = vs.span(),
+                                  .a = as.span(),
+                                  .memory_valid = step > 0,
+                                  .temporaries = &w,
+                                  .wide = avx2_available()};
+            };
+            velocity_verlet(forces, arrays(x, v, a), 0.01 * step, 0.01);
+            velocity_verlet(predicting, arrays(x2, v2, a2), 0.01 * step, 0.01);
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            for (int k = 0; k < 3; ++k) {
+                EXPECT_EQ(x.get(i)[k], x2.get(i)[k]) << "particle " << i << " axis " << k << ", m";
+                EXPECT_EQ(v.get(i)[k], v2.get(i)[k]) << "particle " << i << " axis " << k << ", m/s";
+            }
+        }
+    }
+    // A damper or drag reads v: no skip.
+    const std::vector<double> mass = {1.0, 1.0}, inv_mass = {0.0, 1.0};
+    Springs damped;
+    damped.list.push_back({0, 1, 0.5, 10.0, 0.1});
+    const std::vector<ForceDef> with_damper = {damped}, with_drag = {UniformGravity{}, LinearDrag{0.1}};
+    EXPECT_FALSE(ParticleForces(with_damper, mass, inv_mass).velocity_free());
+    EXPECT_FALSE(ParticleForces(with_drag, mass, inv_mass).velocity_free());
 }
 
 }  // namespace
