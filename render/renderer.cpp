@@ -162,52 +162,6 @@ Renderer::~Renderer() {
 
 void Renderer::draw(const DrawList& list, const RenderSettings& settings) { impl_->draw(list, settings); }
 
-Image Renderer::read_back(int channels) {
-    if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
-    const auto start = std::chrono::steady_clock::now();
-    Image image = read_pixels(impl_->resolve_fbo, channels, "reading the frame back");
-    if (impl_->time_passes) {
-        impl_->stats.passes.read_back =
-            1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    }
-    return image;
-}
-
-Image Renderer::read_window(int channels) {
-    if (impl_->context.window() == nullptr)
-        throw RenderError(ErrorKind::bad_input, "read_window: this context has no window");
-    if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_window: nothing has been drawn yet");
-    return read_pixels(0, channels, "reading the window back");
-}
-
-Image Renderer::read_pixels(unsigned framebuffer, int channels, const char* what) {
-    if (channels != 3 && channels != 4) {
-        throw RenderError(ErrorKind::bad_input,
-                          std::string(what) + ": channels must be 3 or 4 (got " + std::to_string(channels) + ")");
-    }
-    Impl& r = *impl_;
-    r.context.make_current();
-    const auto& gl = r.gl;
-    Image image;
-    image.width = r.width;
-    image.height = r.height;
-    image.channels = channels;
-    const std::size_t row = static_cast<std::size_t>(r.width) * channels;
-    std::vector<std::uint8_t> bottom_up(row * r.height);
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-    gl.ReadBuffer(framebuffer == 0 ? GL_BACK : GL_COLOR_ATTACHMENT0);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);  // rows are tightly packed, whatever the width
-    gl.ReadPixels(0, 0, r.width, r.height, channels == 4 ? GL_RGBA : GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
-    r.check_errors(what);
-    // GL's first row is the bottom one; images start at the top.
-    image.pixels.resize(bottom_up.size());
-    for (int y = 0; y < r.height; ++y) {
-        std::memcpy(image.pixels.data() + static_cast<std::size_t>(y) * row,
-                    bottom_up.data() + static_cast<std::size_t>(r.height - 1 - y) * row, row);
-    }
-    return image;
-}
-
 Image Renderer::render(const DrawList& list, const RenderSettings& settings, int channels) {
     draw(list, settings);
     return read_back(channels);

@@ -35,6 +35,15 @@ public:
     void draw(const DrawList& list, const RenderSettings& settings);
     // The last frame drawn, 3 (RGB) or 4 (RGBA, alpha 255) channels, top row first.
     Image read_back(int channels = 3);
+    // The same without waiting for the frame: its read is queued behind it
+    // (into a pixel-buffer object), so that the next frame can be drawn while
+    // the renderer (llvmpipe's threads, a GPU) finishes this one;
+    // take_read_back() then returns the oldest queued frame, waiting for it if
+    // it must. At most kMaxQueuedReads frames are queued.
+    static constexpr std::size_t kMaxQueuedReads = 4;
+    void queue_read_back();
+    Image take_read_back(int channels = 3);
+    std::size_t queued_read_backs() const;
     // draw() then read_back().
     Image render(const DrawList& list, const RenderSettings& settings, int channels = 3);
     // Waits until the GPU (llvmpipe's threads) has finished the frame: for
@@ -65,7 +74,7 @@ public:
         double trails = 0;       // ribbons
         double overlays = 0;     // text and plots
         double resolve = 0;      // MSAA resolve
-        double read_back = 0;    // read_back(), when called
+        double read_back = 0;    // read_back() or take_read_back(), when called
         double total() const {
             return prepare + shadow + ground + opaque + impostors + translucent + trails + overlays + resolve +
                    read_back;
@@ -74,13 +83,13 @@ public:
     struct FrameStats {
         std::size_t triangles = 0;  // including the shadow pass
         std::size_t draw_calls = 0;
-        PassTimes passes;  // all zero unless time_passes(true)
+        bool shadow_reused = false;  // the shadow map was the last frame's (no caster moved)
+        PassTimes passes;            // all zero unless time_passes(true)
     };
     FrameStats last_frame() const;
     void time_passes(bool on);
 
 private:
-    Image read_pixels(unsigned framebuffer, int channels, const char* what);
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -1,7 +1,8 @@
 // The renderer's private parts, shared by the files that make it up (private
 // to render/; callers include renderer.h):
 //
-//   renderer.cpp            the frame as a list of passes, input checks, read-back
+//   renderer.cpp            the frame as a list of passes, input checks
+//   renderer_read.cpp       reading frames back through pixel-buffer objects
 //   renderer_shaders.cpp    the GLSL sources, compiled and linked into programs
 //   renderer_resources.cpp  GL objects: unit meshes, vertex arrays, the font
 //                           atlas, render targets, the shadow map
@@ -21,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <vector>
 
 namespace render {
@@ -79,6 +81,8 @@ struct PassItems {
         for (auto* v : {&spheres, &cylinders, &tubes, &cones, &boxes, &planes, &mesh_vertices}) v->clear();
         mesh_indices.clear();
     }
+    // Every number the same (a NaN never is: such a list is drawn again).
+    bool operator==(const PassItems&) const = default;
 };
 
 // Flattens the draw list's shapes into the solid and the ghost pass (both
@@ -128,6 +132,22 @@ struct Renderer::Impl {
     GLuint resolve_fbo = 0, resolve_color = 0, resolve_depth = 0;
     int shadow_size = 0;
     GLuint shadow_fbo = 0, shadow_map = 0;
+    // What the shadow map holds: drawn from these casters along this light
+    // (shadow_pass draws it again only when either changed).
+    bool shadow_valid = false;
+    detail::PassItems shadow_casters;
+    Vec3 shadow_light_dir = Vec3::Zero();
+    detail::ShadowLookup shadow_drawn;
+
+    // Read-back through pixel-buffer objects (renderer_read.cpp): a read is
+    // queued behind the frame into a buffer of its own and collected later,
+    // so that the next frame can be drawn meanwhile.
+    struct PendingRead {
+        GLuint buffer = 0;
+        int width = 0, height = 0;
+    };
+    std::vector<GLuint> free_buffers;      // pixel-pack buffers not holding a read
+    std::deque<PendingRead> queued_reads;  // queue_read_back()'s, oldest first
 
     detail::PassItems solid, ghost;
     std::vector<float> trails;  // x y z r g b a per vertex, triangles
@@ -142,6 +162,10 @@ struct Renderer::Impl {
     void draw(const DrawList& list, const RenderSettings& settings);
     void check_driver_limits(const RenderSettings& settings);
     void check_errors(const char* where);
+
+    // renderer_read.cpp: reading frames back.
+    PendingRead start_read(GLuint framebuffer, const char* what);
+    Image finish_read(const PendingRead& read, int channels, const char* what);
 
     // renderer_resources.cpp: GL objects.
     void create_resources();

@@ -82,11 +82,18 @@ Camera light_camera(const Bounds& bounds, const Vec3& light_dir) {
 
 // --- Shadow map ---------------------------------------------------------------------------
 
+// Drawn only when a caster or the light changed since the map was last
+// drawn: the same casters give the same map (a scene at rest, a paused
+// viewer, the tiles of one frame).
 ShadowLookup Renderer::Impl::shadow_pass(const Light& light, int size) {
     const Bounds bounds = caster_bounds(solid);
     if (!light.shadows || bounds.empty()) return {};
     ensure_shadow_map(size);
     const Vec3 light_dir = light_direction(light);
+    if (shadow_valid && light_dir == shadow_light_dir && solid == shadow_casters) {
+        stats.shadow_reused = true;
+        return shadow_drawn;
+    }
     const Camera from_light = light_camera(bounds, light_dir);
     ShadowLookup shadow;
     shadow.on = true;
@@ -110,6 +117,10 @@ ShadowLookup Renderer::Impl::shadow_pass(const Light& light, int size) {
     draw_meshes(solid, true);
     draw_impostors(solid, true);
     gl.Disable(GL_POLYGON_OFFSET_FILL);
+    shadow_valid = true;
+    shadow_casters = solid;
+    shadow_light_dir = light_dir;
+    shadow_drawn = shadow;
     return shadow;
 }
 

@@ -139,6 +139,10 @@ void Renderer::Impl::destroy_resources() {
                               free_indices,  trail_vertices,   overlay_vertices};
     gl.DeleteBuffers(7, buffers);
     gl.DeleteTextures(1, &atlas);
+    for (const PendingRead& read : queued_reads) free_buffers.push_back(read.buffer);
+    queued_reads.clear();
+    if (!free_buffers.empty()) gl.DeleteBuffers(static_cast<GLsizei>(free_buffers.size()), free_buffers.data());
+    free_buffers.clear();
     ensure_targets(0, 0, 0);
     ensure_shadow_map(0);
 }
@@ -184,6 +188,7 @@ void Renderer::Impl::ensure_targets(int w, int h, int s) {
 
 void Renderer::Impl::ensure_shadow_map(int size) {
     if (size == shadow_size) return;
+    shadow_valid = false;
     if (shadow_fbo != 0) {
         gl.DeleteFramebuffers(1, &shadow_fbo);
         gl.DeleteTextures(1, &shadow_map);

@@ -15,14 +15,18 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 namespace scenes {
 namespace {
@@ -72,21 +76,6 @@ void validate(const VideoOptions& o) {
 void blit(render::Image& frame, const render::Image& tile, int x0, int y0) {
     const std::size_t row = static_cast<std::size_t>(tile.width) * tile.channels;
     for (int y = 0; y < tile.height; ++y) std::memcpy(frame.at(x0, y0 + y), tile.at(0, y), row);
-}
-
-std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
-    std::ostringstream c;
-    c << "ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt " << (channels == 4 ? "rgba" : "rgb24") << " -s "
-      << o.width << 'x' << o.height << " -r " << o.fps << " -i - ";
-    if (o.output.extension() == ".gif") {
-        // One palette for the whole clip, then an ordered (Bayer) dither: no crawling noise between frames.
-        c << "-vf \"split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3\" -f gif ";
-    } else {
-        c << "-c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 "
-             "-color_trc bt709 -color_range tv -movflags +faststart -f mp4 ";
-    }
-    c << "'" << temp.string() << "' 2> '" << log.string() << "'";
-    return c.str();
 }
 
 std::string read_all(const fs::path& path) {
@@ -275,7 +264,9 @@ struct TileTexts {
 
 // ffmpeg behind a pipe, writing a temporary file (and its log) beside the
 // output; finish() renames it into place. Destroyed unfinished (an error, an
-// interrupt), it leaves nothing behind.
+// interrupt), it leaves nothing behind. Frames go to ffmpeg from a thread of
+// their own, so that the next frame is drawn while this one is written (the
+// pipe blocks whenever ffmpeg is busy); at most kQueued wait their turn.
 class Encoder {
 public:
     explicit Encoder(const VideoOptions& options) : options_(options) {
@@ -285,6 +276,7 @@ public:
         log_ = dir / ("." + options.output.filename().string() + tag + ".log");
     }
     ~Encoder() {
+        stop_writer();
         if (finished_) return;
         if (pipe_ != nullptr) pclose(pipe_);
         std::error_code ec;
@@ -298,17 +290,26 @@ public:
     void start(int channels) {
         pipe_ = popen(ffmpeg_command(options_, channels, temp_, log_).c_str(), "w");
         if (pipe_ == nullptr) throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+        writer_ = std::thread([this] { write_frames(); });
     }
-    // Frame k, whole.
-    void write(const render::Image& frame, int k) {
-        if (std::fwrite(frame.pixels.data(), 1, frame.pixels.size(), pipe_) != frame.pixels.size()) {
-            // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
-            check_interrupt("video", "frame " + std::to_string(k));
-            throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at frame " +
-                                     std::to_string(k) + ": " + read_all(log_));
+    // Frame k, whole: queued for the writer (a copy). Returns the seconds
+    // spent waiting for room in the queue.
+    double write(const render::Image& frame, int k) {
+        const auto start = Clock::now();
+        std::unique_lock lock(mutex_);
+        room_.wait(lock, [&] { return queue_.size() < kQueued || broken_at_ >= 0; });
+        if (broken_at_ >= 0) {
+            lock.unlock();
+            broken();
         }
+        queue_.push_back({frame.pixels, k});
+        lock.unlock();
+        ready_.notify_one();
+        return std::chrono::duration<double>(Clock::now() - start).count();
     }
     void finish() {
+        stop_writer();
+        if (broken_at_ >= 0) broken();
         const int status = pclose(pipe_);
         pipe_ = nullptr;
         if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("video", "the end", signal);
@@ -325,13 +326,78 @@ public:
     }
 
 private:
+    static constexpr std::size_t kQueued = 2;
+    struct Queued {
+        std::vector<std::uint8_t> pixels;
+        int k = 0;
+    };
+
+    // The writer thread: frames in order, until told to stop and the queue is
+    // empty, or a write fails (ffmpeg stopped reading).
+    void write_frames() {
+        for (;;) {
+            std::unique_lock lock(mutex_);
+            ready_.wait(lock, [&] { return !queue_.empty() || stopping_; });
+            if (queue_.empty()) return;
+            Queued next = std::move(queue_.front());
+            lock.unlock();
+            const bool ok = std::fwrite(next.pixels.data(), 1, next.pixels.size(), pipe_) == next.pixels.size();
+            lock.lock();
+            queue_.pop_front();
+            if (!ok) {
+                broken_at_ = next.k;
+                queue_.clear();
+            }
+            lock.unlock();
+            room_.notify_one();
+            if (!ok) return;
+        }
+    }
+    void stop_writer() {
+        if (!writer_.joinable()) return;
+        {
+            const std::lock_guard lock(mutex_);
+            stopping_ = true;
+        }
+        ready_.notify_one();
+        writer_.join();
+    }
+    [[noreturn]] void broken() {
+        // Ctrl+C in a terminal reaches ffmpeg too, which stops reading: say which.
+        const std::string where = "frame " + std::to_string(broken_at_);
+        check_interrupt("video", where);
+        throw std::runtime_error("video: ffmpeg stopped reading frames (broken pipe) at " + where + ": " +
+                                 read_all(log_));
+    }
+
     const VideoOptions& options_;
     fs::path temp_, log_;
     FILE* pipe_ = nullptr;
     bool finished_ = false;
+    std::thread writer_;
+    std::mutex mutex_;
+    std::condition_variable ready_, room_;  // a frame to write; room in the queue (or a failure)
+    std::deque<Queued> queue_;
+    bool stopping_ = false;
+    int broken_at_ = -1;  // the frame whose write failed
 };
 
 }  // namespace
+
+std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
+    std::ostringstream c;
+    c << "ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt " << (channels == 4 ? "rgba" : "rgb24") << " -s "
+      << o.width << 'x' << o.height << " -r " << o.fps << " -i - ";
+    if (o.output.extension() == ".gif") {
+        // One palette for the whole clip, then an ordered (Bayer) dither: no crawling noise between frames.
+        c << "-vf \"split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3\" -f gif ";
+    } else {
+        c << "-c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 "
+             "-color_trc bt709 -color_range tv -movflags +faststart -f mp4 ";
+    }
+    c << "'" << temp.string() << "' 2> '" << log.string() << "'";
+    return c.str();
+}
 
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
     validate(options);
@@ -362,8 +428,43 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
     Encoder encoder(options);
     render::Image frame;
+    // The first tile says the pixel format: the frame around the tiles, the
+    // compare grid's title card, and ffmpeg started for it.
+    auto begin_frames = [&](const render::Image& tile) {
+        frame.width = options.width;
+        frame.height = options.height;
+        frame.channels = tile.channels;
+        frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
+        if (grid.cols * grid.rows > grid.n) {  // the free cell after the last tile
+            title_card(frame, scene, options.compare, grid.x(grid.n), grid.y(grid.n), grid.tile_w);
+        }
+        encoder.start(frame.channels);
+    };
     Progress progress("video", options.progress, frames);
     double physics = 0.0, render_time = 0.0;  // s
+    // Video frame k is complete in `frame`: to the encoder.
+    auto emit = [&](int k) {
+        encode += encoder.write(frame, k);
+        if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
+        char what[64];
+        std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
+                      (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
+        progress.step(what);
+    };
+    // One tile: frame k is drawn and its read queued; frame k - 1, drawn
+    // meanwhile by the renderer's threads, is taken and encoded. A grid of
+    // tiles reads each tile as it is drawn (the renderer redraws for each).
+    const bool behind = grid.n == 1;
+    const render::RenderSettings settings{.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4};
+    auto take = [&](int k) {
+        const auto r0 = Clock::now();
+        const render::Image tile = renderer.take_read_back();
+        if (options.verbose) passes.read_back += renderer.last_frame().passes.read_back;
+        if (!encoder.started()) begin_frames(tile);
+        blit(frame, tile, grid.x(0), grid.y(0));
+        render_time += std::chrono::duration<double>(Clock::now() - r0).count();
+        emit(k);
+    };
     for (int k = 0; k < frames; ++k) {
         const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
         const auto p0 = Clock::now();
@@ -379,32 +480,26 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
         for (int i = 0; i < grid.n; ++i) {
             render::DrawList& list = lists[static_cast<std::size_t>(i)];
             texts.add(list, options, static_cast<std::size_t>(i), grid.tile_h, t);
-            const render::Image tile =
-                renderer.render(list, {.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4});
-            if (options.verbose) add_passes(passes, renderer.last_frame().passes);
-            if (!encoder.started()) {  // the first tile says the pixel format
-                frame.width = options.width;
-                frame.height = options.height;
-                frame.channels = tile.channels;
-                frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
-                if (grid.cols * grid.rows > grid.n) {  // the free cell after the last tile
-                    title_card(frame, scene, options.compare, grid.x(grid.n), grid.y(grid.n), grid.tile_w);
-                }
-                encoder.start(frame.channels);
+            if (behind) {
+                renderer.draw(list, settings);
+                renderer.queue_read_back();
+                if (options.verbose) add_passes(passes, renderer.last_frame().passes);
+                continue;
             }
+            const render::Image tile = renderer.render(list, settings);
+            if (options.verbose) add_passes(passes, renderer.last_frame().passes);
+            if (!encoder.started()) begin_frames(tile);
             blit(frame, tile, grid.x(i), grid.y(i));
         }
-        const auto p2 = Clock::now();
         physics += std::chrono::duration<double>(p1 - p0).count();
-        render_time += std::chrono::duration<double>(p2 - p1).count();
-        encoder.write(frame, k);
-        encode += std::chrono::duration<double>(Clock::now() - p2).count();
-        if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
-        char what[64];
-        std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
-                      (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
-        progress.step(what);
+        render_time += std::chrono::duration<double>(Clock::now() - p1).count();
+        if (!behind) {
+            emit(k);
+        } else if (k > 0) {
+            take(k - 1);
+        }
     }
+    if (behind) take(frames - 1);
     encoder.finish();
     VideoStats stats;
     stats.frames = frames;

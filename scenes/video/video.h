@@ -33,7 +33,7 @@ struct VideoStats {
     double seconds = 0.0;                // wall time of the whole video
     int last_frame = 0;                  // the scene frame the video ends on
     int diverged_frame = -1;             // a recording's: the first frame whose state differs from it; -1: none
-    double encode_ms = 0.0;              // per frame: waiting for ffmpeg to take the frame
+    double encode_ms = 0.0;              // per frame: waiting for room in the encoder's queue
     render::Renderer::PassTimes passes;  // per frame, all tiles, ms (options.verbose; else zero)
 };
 
@@ -41,5 +41,12 @@ struct VideoStats {
 // options (odd size, unknown integrator, an unwritable path, a wrong
 // extension), std::runtime_error when ffmpeg fails or goes away.
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options);
+
+// The ffmpeg command that encodes raw frames (rgb24, or rgba for 4 channels)
+// from its standard input into `temp` as options say, its messages into
+// `log`: write_video's, and bench_video's reference (ffmpeg alone on the
+// same frames).
+std::string ffmpeg_command(const VideoOptions& options, int channels, const std::filesystem::path& temp,
+                           const std::filesystem::path& log);
 
 }  // namespace scenes

@@ -129,6 +129,32 @@ TEST_F(RendererTest, ShadowOnTheGroundIsDarkerThanLitGround) {
         << "shadow luminance " << luminance(shadow) << ", lit ground " << luminance(lit) << " (8-bit levels)";
 }
 
+// The shadow map is drawn again only when a caster or the light changed:
+// the same list reuses it, with the same bytes; a moved caster or a turned
+// light gives what a fresh renderer draws (the shadow moves with it).
+TEST_F(RendererTest, TheShadowMapIsReusedOnlyWhileNoCasterMoved) {
+    DrawList list = testing::lecture_scene();
+    const RenderSettings settings{.width = 240, .height = 180, .msaa_samples = 4};
+    const Image first = renderer_->render(list, settings);
+    EXPECT_FALSE(renderer_->last_frame().shadow_reused);
+    const Image again = renderer_->render(list, settings);
+    EXPECT_TRUE(renderer_->last_frame().shadow_reused);
+    EXPECT_EQ(again.pixels, first.pixels);
+
+    ASSERT_FALSE(list.spheres.empty());
+    DrawList moved = list;
+    moved.spheres.front().center += Vec3(0.4f, 0.0f, 0.3f);
+    DrawList turned = list;
+    turned.light.direction = Vec3(1.0f, -1.0f, 0.2f);
+    for (const DrawList* changed : {&moved, &turned}) {
+        const Image image = renderer_->render(*changed, settings);
+        EXPECT_FALSE(renderer_->last_frame().shadow_reused);
+        Renderer fresh(*context_);
+        EXPECT_EQ(image.pixels, fresh.render(*changed, settings).pixels) << "as a fresh renderer draws it";
+        EXPECT_NE(image.pixels, first.pixels);
+    }
+}
+
 TEST_F(RendererTest, GhostIsLighterThanItsSolidTwinAndSeeThrough) {
     DrawList list = empty_scene();  // the default light sky
     list.light.shadows = false;
@@ -204,6 +230,49 @@ TEST_F(RendererTest, PassTimesAreMeasuredOnlyWhenAskedAndChangeNoPixel) {
     }
     renderer_->render(list, settings);
     EXPECT_EQ(renderer_->last_frame().passes.total(), 0.0) << "off again";
+}
+
+// A read queued behind its frame (video: frame k is taken while frame k + 1
+// is drawn) gives the bytes read_back gives, frames come out oldest first
+// even when their sizes differ, RGB and RGBA agree, and misuse is refused.
+TEST_F(RendererTest, QueuedReadBacksGiveTheFramesInOrder) {
+    DrawList lecture = testing::lecture_scene();
+    testing::place_plot(lecture, 320, 240);
+    const DrawList spheres = testing::sphere_field(50);
+    const RenderSettings small{.width = 320, .height = 240, .msaa_samples = 4};
+    const RenderSettings odd{.width = 161, .height = 97, .msaa_samples = 0};  // rows of any length
+    const Image a = renderer_->render(lecture, small);
+    const Image b = renderer_->render(spheres, odd);
+    const Image a4 = renderer_->render(lecture, small, 4);
+
+    renderer_->draw(lecture, small);
+    renderer_->queue_read_back();
+    renderer_->draw(spheres, odd);
+    renderer_->queue_read_back();
+    renderer_->draw(lecture, small);
+    renderer_->queue_read_back();
+    EXPECT_EQ(renderer_->queued_read_backs(), 3u);
+    const Image first = renderer_->take_read_back();
+    const Image second = renderer_->take_read_back();
+    const Image third = renderer_->take_read_back(4);
+    EXPECT_EQ(renderer_->queued_read_backs(), 0u);
+    EXPECT_EQ(first.pixels, a.pixels) << "the oldest first";
+    EXPECT_EQ(second.width, 161);
+    EXPECT_EQ(second.height, 97);
+    EXPECT_EQ(second.pixels, b.pixels);
+    EXPECT_EQ(third.channels, 4);
+    EXPECT_EQ(third.pixels, a4.pixels);
+    for (std::size_t i = 0; i < a.pixels.size() / 3; ++i) {
+        ASSERT_EQ(a4.pixels[4 * i], a.pixels[3 * i]) << "pixel " << i << ": RGBA's red is RGB's";
+        ASSERT_EQ(a4.pixels[4 * i + 2], a.pixels[3 * i + 2]) << "pixel " << i << ": blue";
+        ASSERT_EQ(a4.pixels[4 * i + 3], 255) << "pixel " << i << ": opaque";
+    }
+
+    EXPECT_THROW(renderer_->take_read_back(), RenderError) << "nothing queued";
+    EXPECT_THROW(renderer_->take_read_back(2), RenderError) << "2 channels";
+    for (std::size_t i = 0; i < Renderer::kMaxQueuedReads; ++i) renderer_->queue_read_back();
+    EXPECT_THROW(renderer_->queue_read_back(), RenderError) << "beyond kMaxQueuedReads";
+    while (renderer_->queued_read_backs() > 0) renderer_->take_read_back();
 }
 
 TEST_F(RendererTest, RefusesBadSizesAndSampleCounts) {
