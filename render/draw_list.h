@@ -207,6 +207,11 @@ struct RenderSettings {
     int height = 480;            // px
     int msaa_samples = 0;        // 0 or 1: off (goldens); 4 for videos and the window
     int shadow_map_size = 1024;  // texels per side (2048 costs 6 ms more per frame on llvmpipe)
+    // The scene moved by this much on the image, px (x right, y down), by
+    // the projection alone: overlays stay. Frames jittered over a grid of
+    // sub-pixel offsets and averaged are a supersampled reference (the
+    // anti-aliasing test's); 0 otherwise.
+    float jitter_x = 0.0f, jitter_y = 0.0f;
 };
 
 // The MSAA sample counts the renderer takes: 0 or 1 (off), 2, 4 or 8. The one

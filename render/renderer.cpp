@@ -38,6 +38,11 @@ void check_settings(const RenderSettings& settings) {
         throw RenderError(ErrorKind::bad_input, "shadow map size must be within 16 .. " + std::to_string(kMaxSize) +
                                                     " texels (got " + std::to_string(settings.shadow_map_size) + ")");
     }
+    for (const float j : {settings.jitter_x, settings.jitter_y}) {
+        if (!(std::abs(j) <= 1.0f)) {
+            throw RenderError(ErrorKind::bad_input, "jitter must be within -1 .. 1 px (got " + std::to_string(j) + ")");
+        }
+    }
 }
 
 void check_camera(const Camera& camera) {
@@ -53,7 +58,14 @@ void check_camera(const Camera& camera) {
 detail::Viewpoint camera_viewpoint(const Camera& camera, const RenderSettings& settings) {
     const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
     const Vec3 forward = (camera.target - camera.eye).normalized();
-    return {projection_matrix(camera, aspect) * view_matrix(camera), camera.eye, forward,
+    Eigen::Matrix4f projection = projection_matrix(camera, aspect);
+    if (settings.jitter_x != 0.0f || settings.jitter_y != 0.0f) {
+        Eigen::Matrix4f shift = Eigen::Matrix4f::Identity();  // in normalised device coordinates
+        shift(0, 3) = 2.0f * settings.jitter_x / static_cast<float>(settings.width);
+        shift(1, 3) = -2.0f * settings.jitter_y / static_cast<float>(settings.height);
+        projection = shift * projection;
+    }
+    return {projection * view_matrix(camera), camera.eye, forward,
             camera.projection == Camera::Projection::orthographic};
 }
 
