@@ -28,6 +28,7 @@ constexpr bool kOsmesaBuilt = false;
 constexpr BackendInfo kBackends[] = {
     {Backend::osmesa, "osmesa", true, kOsmesaBuilt, "Mesa's OSMesa, llvmpipe"},
     {Backend::egl, "egl", true, true, "EGL surfaceless or device platform, llvmpipe"},
+    {Backend::gpu, "gpu", true, true, "EGL device platform on a hardware device, where one is found"},
     {Backend::glfw, "glfw", false, true, "a window, for plausible view"},
 };
 
@@ -133,7 +134,7 @@ void GlContext::load_functions(GlProcLoader loader) {
 
 namespace detail {
 
-void prepare_mesa_environment() {
+void prepare_mesa_environment(bool software) {
     // A fixed rasteriser thread count, decided once per machine (the core
     // count, at most 8) instead of left to the driver. llvmpipe bins triangles
     // into tiles in submission order and each tile is shaded by one thread, so
@@ -144,7 +145,7 @@ void prepare_mesa_environment() {
     // EGL would pick a GPU driver where one exists; golden images are made
     // with llvmpipe, as OSMesa always does. A user who wants the GPU sets
     // LIBGL_ALWAYS_SOFTWARE=0.
-    setenv("LIBGL_ALWAYS_SOFTWARE", "1", /*overwrite=*/0);
+    if (software) setenv("LIBGL_ALWAYS_SOFTWARE", "1", /*overwrite=*/0);
 }
 
 }  // namespace detail
@@ -157,7 +158,7 @@ std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
                                                       "configured); this build has: " +
                                                       offscreen_backend_names());
     }
-    detail::prepare_mesa_environment();
+    detail::prepare_mesa_environment(options.backend != Backend::gpu);
     switch (options.backend) {
         case Backend::osmesa:
 #ifdef PLAUSIBLE_HAVE_OSMESA
@@ -166,11 +167,43 @@ std::unique_ptr<GlContext> create_context(const ContextOptions& options) {
             break;  // refused above: the table says it is not built
 #endif
         case Backend::egl:
-            return detail::create_egl_context();
+            return detail::create_egl_context(false);
+        case Backend::gpu:
+            return detail::create_egl_context(true);
         case Backend::glfw:
             return detail::create_glfw_context(options);
     }
     throw RenderError(ErrorKind::bad_input, "unknown backend");
+}
+
+std::vector<EglDevice> egl_devices() {
+    detail::prepare_mesa_environment(false);  // Mesa's hardware devices too
+    return detail::query_egl_devices();
+}
+
+Backend fastest_backend() {
+    for (const EglDevice& d : egl_devices()) {
+        if (!d.software) return Backend::gpu;
+    }
+    return default_backend();
+}
+
+std::string describe_backends() {
+    std::string out;
+    for (const BackendInfo& info : kBackends) {
+        if (!info.offscreen) continue;
+        out += std::string(info.name) + (info.built ? "" : " (not in this build)") + ": " + std::string(info.about) +
+               (info.backend == default_backend() ? " [default]" : "") + "\n";
+    }
+    const std::vector<EglDevice> devices = egl_devices();
+    out += "EGL devices found: " + std::to_string(devices.size()) + (devices.empty() ? "\n" : "");
+    for (const EglDevice& d : devices) {
+        out +=
+            "\n  " + std::to_string(d.index) + ": " + d.name + (d.software ? " (software, llvmpipe)" : " (hardware)");
+    }
+    if (!devices.empty()) out += "\n";
+    out += "fastest here: " + std::string(backend_name(fastest_backend())) + "\n";
+    return out;
 }
 
 }  // namespace render

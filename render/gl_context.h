@@ -4,6 +4,9 @@
 //   egl     off-screen through EGL's surfaceless platform (or the device
 //           platform); the default where the build has no OSMesa, and it
 //           gives the same llvmpipe frames
+//   gpu     off-screen through EGL's device platform on a hardware device
+//           (a GPU, through its vendor's libEGL by glvnd); never the goldens'
+//           renderer, picked by `auto` where one is found
 //   glfw    a window, for `plausible view`; fails cleanly without a display
 // backends() is the table of them: the CLI's --backend choices, its help and
 // its errors all read it, so a new backend is one row there and one case in
@@ -21,13 +24,14 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 struct GladGLContext;  // glad 2 (--mx): one function table per context
 struct GLFWwindow;
 
 namespace render {
 
-enum class Backend { osmesa, egl, glfw };
+enum class Backend { osmesa, egl, gpu, glfw };
 
 struct BackendInfo {
     Backend backend;
@@ -47,13 +51,30 @@ std::optional<Backend> backend_from_name(std::string_view name);
 // the table, OSMesa where the build has it (the goldens were made with it),
 // else EGL. The one place that decides it.
 Backend default_backend();
-// The built off-screen backends' names, comma-separated ("osmesa, egl").
+// The built off-screen backends' names, comma-separated ("osmesa, egl, gpu").
 std::string offscreen_backend_names();
+
+// The EGL devices this machine has (EGL_EXT_device_enumeration): Mesa's
+// software device and any hardware ones, from every vendor library glvnd
+// finds. Empty where EGL cannot enumerate devices.
+struct EglDevice {
+    int index = 0;         // in eglQueryDevicesEXT's order
+    bool software = true;  // EGL_MESA_device_software: llvmpipe
+    std::string name;      // its DRM node where it has one, else "device N"
+};
+std::vector<EglDevice> egl_devices();
+// The fastest off-screen backend here: gpu where a hardware EGL device is
+// found, else default_backend() (llvmpipe). For videos; goldens are checked
+// with default_backend().
+Backend fastest_backend();
+// What `--backend list` prints: each off-screen backend, built or not, and
+// the EGL devices found.
+std::string describe_backends();
 
 // What made the pixels: golden files store it, and a golden check compares it
 // before blaming the simulation for a different picture.
 struct Fingerprint {
-    std::string backend;          // osmesa, egl, glfw
+    std::string backend;          // osmesa, egl, gpu, glfw
     std::string vendor;           // GL_VENDOR
     std::string renderer;         // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
     std::string version;          // GL_VERSION

@@ -1,4 +1,4 @@
-// The three GlContext implementations; create_context() picks one. Internal
+// The GlContext implementations; create_context() picks one. Internal
 // to render/: each lives in its own file so only that file sees its system
 // headers (OSMesa's GL/gl.h and glad's gl.h cannot share a translation unit).
 #pragma once
@@ -8,12 +8,16 @@
 namespace render::detail {
 
 std::unique_ptr<GlContext> create_osmesa_context();
-std::unique_ptr<GlContext> create_egl_context();
+// hardware: the first hardware device of the device platform (Backend::gpu);
+// else the surfaceless platform or Mesa's software device (Backend::egl).
+std::unique_ptr<GlContext> create_egl_context(bool hardware);
+std::vector<EglDevice> query_egl_devices();
 std::unique_ptr<GlContext> create_glfw_context(const ContextOptions& options);
 
 // Sets the process environment Mesa reads when it creates its first context,
 // unless the user set it: a fixed llvmpipe thread count (LP_NUM_THREADS) and,
-// for EGL, the software rasteriser, so every backend draws with llvmpipe.
-void prepare_mesa_environment();
+// when `software`, the software rasteriser (LIBGL_ALWAYS_SOFTWARE), so that
+// EGL draws with llvmpipe as OSMesa does; the gpu backend leaves it unset.
+void prepare_mesa_environment(bool software);
 
 }  // namespace render::detail

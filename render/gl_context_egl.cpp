@@ -1,12 +1,15 @@
 // Off-screen contexts through EGL without a window system: Mesa's surfaceless
 // platform (EGL_MESA_platform_surfaceless), or else the device platform
-// (EGL_EXT_platform_device). A configless context (EGL_KHR_no_config_context)
+// (EGL_EXT_platform_device), for llvmpipe; the device platform on the first
+// hardware device (not EGL_MESA_device_software) for the gpu backend. A configless context (EGL_KHR_no_config_context)
 // with no surface: the renderer draws into its own framebuffer objects.
 #include "render/gl_context_backends.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -31,8 +34,46 @@ RenderError egl_error(const std::string& what) {
     return RenderError(ErrorKind::unavailable, "egl: " + what + " (EGL error " + code + ")");
 }
 
-// A display of the surfaceless platform, or of the first device, or none.
-EGLDisplay open_display() {
+using QueryDevices = PFNEGLQUERYDEVICESEXTPROC;
+using QueryDeviceString = PFNEGLQUERYDEVICESTRINGEXTPROC;
+
+// Every EGL device, in eglQueryDevicesEXT's order (none where the client
+// cannot enumerate them).
+std::vector<EGLDeviceEXT> all_devices() {
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    auto query_devices = reinterpret_cast<QueryDevices>(eglGetProcAddress("eglQueryDevicesEXT"));
+    if (!has_extension(client, "EGL_EXT_device_enumeration") || query_devices == nullptr) return {};
+    EGLint count = 0;
+    if (!query_devices(0, nullptr, &count) || count <= 0) return {};
+    std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
+    if (!query_devices(count, devices.data(), &count)) return {};
+    devices.resize(static_cast<std::size_t>(std::max(count, 0)));
+    return devices;
+}
+
+EglDevice describe(EGLDeviceEXT device, int index) {
+    EglDevice d;
+    d.index = index;
+    d.name = "device " + std::to_string(index);
+    auto query_string = reinterpret_cast<QueryDeviceString>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    if (query_string == nullptr) return d;
+    const char* extensions = query_string(device, EGL_EXTENSIONS);
+    d.software = has_extension(extensions, "EGL_MESA_device_software");
+    if (has_extension(extensions, "EGL_EXT_device_drm")) {
+        if (const char* node = query_string(device, EGL_DRM_DEVICE_FILE_EXT)) d.name = node;
+    }
+    return d;
+}
+
+EGLDisplay device_display(EGLDeviceEXT device) {
+    auto get_platform_display =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+    if (get_platform_display == nullptr) return EGL_NO_DISPLAY;
+    return get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+}
+
+// llvmpipe: a display of the surfaceless platform, or of the first device, or none.
+EGLDisplay open_software_display() {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     auto get_platform_display =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -42,20 +83,31 @@ EGLDisplay open_display() {
         if (display != EGL_NO_DISPLAY) return display;
     }
     if (has_extension(client, "EGL_EXT_platform_device")) {
-        auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-        EGLDeviceEXT device = nullptr;
-        EGLint count = 0;
-        if (query_devices != nullptr && query_devices(1, &device, &count) && count > 0) {
-            return get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
-        }
+        const std::vector<EGLDeviceEXT> devices = all_devices();
+        if (!devices.empty()) return device_display(devices.front());
     }
     return EGL_NO_DISPLAY;
 }
 
+// The first hardware device's display; throws, naming what was found, when
+// there is none.
+EGLDisplay open_hardware_display() {
+    const std::vector<EGLDeviceEXT> devices = all_devices();
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        if (!describe(devices[i], static_cast<int>(i)).software) {
+            const EGLDisplay display = device_display(devices[i]);
+            if (display != EGL_NO_DISPLAY) return display;
+        }
+    }
+    throw RenderError(ErrorKind::unavailable, "gpu: no hardware EGL device here (" + std::to_string(devices.size()) +
+                                                  " device(s) found, all software); --backend auto falls back to "
+                                                  "llvmpipe, --backend list shows what was found");
+}
+
 class EglContext final : public GlContext {
 public:
-    EglContext() : GlContext(Backend::egl) {
-        display_ = open_display();
+    explicit EglContext(bool hardware) : GlContext(hardware ? Backend::gpu : Backend::egl) {
+        display_ = hardware ? open_hardware_display() : open_software_display();
         if (display_ == EGL_NO_DISPLAY) {
             throw egl_error("no surfaceless or device platform display (is libegl-mesa0 installed?)");
         }
@@ -109,6 +161,13 @@ private:
 
 }  // namespace
 
-std::unique_ptr<GlContext> create_egl_context() { return std::make_unique<EglContext>(); }
+std::unique_ptr<GlContext> create_egl_context(bool hardware) { return std::make_unique<EglContext>(hardware); }
+
+std::vector<EglDevice> query_egl_devices() {
+    std::vector<EglDevice> out;
+    const std::vector<EGLDeviceEXT> devices = all_devices();
+    for (std::size_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], static_cast<int>(i)));
+    return out;
+}
 
 }  // namespace render::detail

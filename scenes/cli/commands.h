@@ -63,10 +63,12 @@ int report_replay(const SceneDef& scene, int diverged_frame, int frames_reached)
 // "WIDTHxHEIGHT" within 16x16 .. 8192x8192 px.
 std::pair<int, int> parse_size(const std::string& text);
 // An off-screen backend this build has (render::backends(): osmesa where the
-// build found OSMesa, egl always; a window is not an off-screen backend).
+// build found OSMesa, egl and gpu always; a window is not an off-screen
+// backend), or auto: render::fastest_backend().
 render::Backend parse_backend(const std::string& text);
-// --backend, set to render::default_backend(), its help listing the backends
-// this build has.
-void add_backend_option(CLI::App* app, std::string* backend);
+// --backend, set to render::default_backend() (the goldens' llvmpipe), or to
+// auto when `fastest` (videos), its help listing the backends this build
+// has; --backend list prints them with the EGL devices found, and exits 0.
+void add_backend_option(CLI::App* app, std::string* backend, bool fastest = false);
 
 }  // namespace scenes::cli

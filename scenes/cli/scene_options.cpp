@@ -58,11 +58,12 @@ std::pair<int, int> parse_size(const std::string& text) {
 }
 
 render::Backend parse_backend(const std::string& text) {
+    if (text == "auto") return render::fastest_backend();
     const auto b = render::backend_from_name(text);
     const std::string built = render::offscreen_backend_names();
     if (!b || !render::backend_info(*b).offscreen) {
-        throw sim::InputError("--backend must be an off-screen backend of this build: " + built + " (got '" + text +
-                              "')");
+        throw sim::InputError("--backend must be an off-screen backend of this build: " + built +
+                              ", auto or list (got '" + text + "')");
     }
     if (!render::backend_info(*b).built) {
         throw sim::InputError("--backend " + text +
@@ -73,8 +74,8 @@ render::Backend parse_backend(const std::string& text) {
     return *b;
 }
 
-void add_backend_option(CLI::App* app, std::string* backend) {
-    *backend = std::string(render::backend_name(render::default_backend()));
+void add_backend_option(CLI::App* app, std::string* backend, bool fastest) {
+    *backend = fastest ? "auto" : std::string(render::backend_name(render::default_backend()));
     std::string help = "Off-screen GL backend; this build has: ";
     const char* separator = "";
     for (const render::BackendInfo& info : render::backends()) {
@@ -82,7 +83,14 @@ void add_backend_option(CLI::App* app, std::string* backend) {
         help += separator + std::string(info.name) + " (" + std::string(info.about) + ")";
         separator = ", ";
     }
-    app->add_option("--backend", *backend, help)->capture_default_str();
+    help += "; auto: gpu where a hardware device is found, else " +
+            std::string(render::backend_name(render::default_backend())) +
+            "; list: print the backends and the EGL devices found, and exit";
+    app->add_option("--backend", *backend, help)->capture_default_str()->each([](const std::string& value) {
+        if (value != "list") return;
+        std::printf("%s", render::describe_backends().c_str());
+        throw CLI::Success();
+    });
 }
 
 }  // namespace scenes::cli

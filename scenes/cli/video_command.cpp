@@ -15,7 +15,7 @@ namespace {
 struct VideoArgs {
     SceneOptions scene;
     VideoOptions options;
-    std::string out, size = "1280x720", compare;
+    std::string out, size = "1280x720", compare, backend;
 };
 
 int video(VideoArgs& a) {
@@ -23,6 +23,7 @@ int video(VideoArgs& a) {
     a.options.width = w;
     a.options.height = h;
     a.options.output = a.out;
+    a.options.backend = parse_backend(a.backend);
     std::stringstream names(a.compare);
     for (std::string name; std::getline(names, name, ',');) a.options.compare.push_back(name);
     a.options.progress = progress_wanted();
@@ -57,6 +58,7 @@ Command add_video(CLI::App& app) {
     cmd->add_option("--compare", args->compare,
                     "Tiles side by side in lock step, comma-separated: integrators (forward_euler,symplectic_euler) "
                     "or --set variants (step.substeps=1,step.substeps=8)");
+    add_backend_option(cmd, &args->backend, /*fastest=*/true);
     cmd->add_flag("!--no-caption", args->options.caption, "No description across the bottom for the first seconds");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each frame pass by pass (shadow, opaque, impostors, overlays, MSAA resolve, read-back) and "

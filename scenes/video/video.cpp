@@ -418,7 +418,7 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     const TileGrid grid = tile_grid(static_cast<int>(runs.size()), options);
     const TileTexts texts(scene, options, grid, seconds);
 
-    const auto context = render::create_context({});
+    const auto context = render::create_context({.backend = options.backend.value_or(render::fastest_backend())});
     render::Renderer renderer(*context);
     renderer.time_passes(options.verbose);
     render::Renderer::PassTimes passes;  // ms, summed over the frames

@@ -10,6 +10,7 @@
 #include "scenes/model/scene.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct VideoOptions {
     bool progress = false;             // a progress bar with frames/s and ETA on stderr
     bool caption = true;               // the scene's description across the bottom for the first seconds
     bool verbose = false;              // time each frame pass by pass (VideoStats::passes; a little slower)
+    // The GL backend; none: render::fastest_backend() (a GPU where EGL finds one, else llvmpipe).
+    std::optional<render::Backend> backend;
 };
 
 struct VideoStats {

@@ -1,5 +1,6 @@
-// The three GL-context backends: OSMesa (the default where the build has it),
-// EGL surfaceless (the default where it has not), GLFW.
+// The GL-context backends: OSMesa (the default where the build has it), EGL
+// surfaceless (the default where it has not), EGL on a hardware device (gpu),
+// GLFW.
 #include "render/gl_context.h"
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace render {
 namespace {
@@ -28,7 +30,7 @@ TEST(GlContext, DefaultIsOsmesaWhereBuiltElseEgl) {
     const Backend expected = osmesa_built() ? Backend::osmesa : Backend::egl;
     EXPECT_EQ(default_backend(), expected);
     EXPECT_EQ(ContextOptions{}.backend, expected);
-    EXPECT_EQ(offscreen_backend_names(), osmesa_built() ? "osmesa, egl" : "egl");
+    EXPECT_EQ(offscreen_backend_names(), osmesa_built() ? "osmesa, egl, gpu" : "egl, gpu");
     EXPECT_FALSE(backend_info(Backend::glfw).offscreen);
 }
 
@@ -73,6 +75,37 @@ TEST(GlContext, EglSurfacelessGivesTheSameRasteriser) {
     if (!osmesa_built()) return;
     const auto osmesa = create_context({.backend = Backend::osmesa});
     EXPECT_EQ(f.renderer, osmesa->fingerprint().renderer);
+}
+
+// The EGL devices found decide the fastest backend: gpu where one is
+// hardware, else the goldens' llvmpipe. Where there is none, asking for gpu
+// is refused saying what was found; where there is one (a GPU machine), it
+// gives a context whose fingerprint says gpu and is not llvmpipe's.
+TEST(GlContext, GpuIsTheFastestWhereAHardwareDeviceIsFoundAndRefusedElsewhere) {
+    const std::vector<EglDevice> devices = egl_devices();
+    bool hardware = false;
+    for (const EglDevice& d : devices) {
+        EXPECT_FALSE(d.name.empty());
+        hardware = hardware || !d.software;
+    }
+    EXPECT_EQ(fastest_backend(), hardware ? Backend::gpu : default_backend());
+    const std::string listed = describe_backends();
+    for (const char* name : {"osmesa", "egl", "gpu", "EGL devices found: ", "fastest here: "}) {
+        EXPECT_NE(listed.find(name), std::string::npos) << name << " in:\n" << listed;
+    }
+    if (!hardware) {
+        try {
+            create_context({.backend = Backend::gpu});
+            FAIL() << "a gpu context without a hardware device";
+        } catch (const RenderError& e) {
+            EXPECT_EQ(e.kind(), ErrorKind::unavailable);
+            EXPECT_NE(std::string(e.what()).find("no hardware EGL device"), std::string::npos) << e.what();
+        }
+        return;
+    }
+    const auto gpu = create_context({.backend = Backend::gpu});
+    EXPECT_EQ(gpu->fingerprint().backend, "gpu");
+    EXPECT_EQ(gpu->fingerprint().renderer.find("llvmpipe"), std::string::npos) << gpu->fingerprint().renderer;
 }
 
 // Runs a body with DISPLAY and WAYLAND_DISPLAY unset, restoring them after.

@@ -177,10 +177,23 @@ TEST_F(Video, TheCommandExits2OnBadArgumentsWithoutAFile) {
     for (const std::string& args :
          {"oscillator -o " + out + " --size 321x180", "oscillator -o " + out + " --compare rk4,runge_kutta",
           "oscillator -o " + (dir_ / "nowhere" / "v.mp4").string(), "oscillator -o " + out + " --fps 0",
-          "no-such-scene -o " + out}) {
+          "no-such-scene -o " + out, "oscillator -o " + out + " --backend vulkan"}) {
         const std::string result = run(std::string(PLAUSIBLE_EXE) + " video " + args + " 2>&1; echo \"status=$?\"");
         EXPECT_NE(result.find("status=2"), std::string::npos) << args << ": " << result;
         EXPECT_NE(result.find("error"), std::string::npos) << args << ": " << result;
+    }
+    EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
+}
+
+// --backend list says what this machine has, scene or not, and exits 0;
+// auto (the default) takes it: here llvmpipe unless a GPU is found.
+TEST_F(Video, BackendListShowsTheBackendsAndTheEglDevicesFound) {
+    for (const std::string command : {"video --backend list", "render --backend list", "check --backend list"}) {
+        const std::string result = run(std::string(PLAUSIBLE_EXE) + " " + command + " 2>&1; echo \"status=$?\"");
+        EXPECT_NE(result.find("status=0"), std::string::npos) << command << ": " << result;
+        for (const char* fragment : {"osmesa", "egl:", "gpu:", "EGL devices found: ", "fastest here: "}) {
+            EXPECT_NE(result.find(fragment), std::string::npos) << command << ": " << fragment << " in " << result;
+        }
     }
     EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
 }
