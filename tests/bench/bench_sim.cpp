@@ -439,6 +439,8 @@ void register_benchmarks() {
     }
     benchmark::RegisterBenchmark("FixedCost/symplectic_euler", fixed_cost, sim::Integrator::symplectic_euler)
         ->Unit(benchmark::kNanosecond);
+    benchmark::RegisterBenchmark("FixedCost/velocity_verlet", fixed_cost, sim::Integrator::velocity_verlet)
+        ->Unit(benchmark::kNanosecond);
     benchmark::RegisterBenchmark("FixedCost/rk4", fixed_cost, sim::Integrator::rk4)->Unit(benchmark::kNanosecond);
 }
 
