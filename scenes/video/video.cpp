@@ -382,6 +382,132 @@ private:
     int broken_at_ = -1;  // the frame whose write failed
 };
 
+// The frames of one video, in order: physics up to each frame's time, the
+// tiles drawn, the frame assembled and handed to the encoder. With one tile,
+// frame k is drawn and its read queued, then frame k - 1 (drawn meanwhile by
+// the renderer's threads) is taken and encoded; a grid of tiles reads each
+// tile as it is drawn (the renderer redraws for each).
+class FrameLoop {
+public:
+    FrameLoop(const SceneDef& scene, const VideoOptions& options, std::vector<std::unique_ptr<SceneRun>>& runs,
+              const TileGrid& grid, const TileTexts& texts, render::Renderer& renderer, int frames)
+        : scene_(scene),
+          options_(options),
+          runs_(runs),
+          grid_(grid),
+          texts_(texts),
+          renderer_(renderer),
+          frames_(frames),
+          encoder_(options),
+          progress_("video", options.progress, frames),
+          settings_{.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4} {}
+
+    VideoStats run() {
+        const bool behind = grid_.n == 1;
+        for (int k = 0; k < frames_; ++k) {
+            draw(k, behind);
+            if (!behind) {
+                emit(k);
+            } else if (k > 0) {
+                take(k - 1);
+            }
+        }
+        if (behind) take(frames_ - 1);
+        encoder_.finish();
+        VideoStats stats;
+        stats.frames = frames_;
+        stats.physics_ms = 1e3 * physics_ / frames_;
+        stats.render_ms = 1e3 * render_ / frames_;
+        stats.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
+        stats.encode_ms = 1e3 * encode_ / frames_;
+        add_passes(stats.passes, passes_, 1.0 / frames_);
+        stats.last_frame = runs_.front()->frame();
+        stats.diverged_frame = runs_.front()->diverged_frame();
+        return stats;
+    }
+
+private:
+    // Frame k's physics and tiles: each tile drawn and its read queued
+    // (`behind`), or drawn, read and put in the frame.
+    void draw(int k, bool behind) {
+        const double t = static_cast<double>(k) / options_.fps;  // s, what this frame shows
+        const auto p0 = Clock::now();
+        for (auto& run : runs_) {
+            const double dt = run->step().dt;
+            while (run->time() + dt <= t + 1e-9 && run->advance()) {
+            }
+        }
+        const auto p1 = Clock::now();
+        std::vector<render::DrawList> lists;
+        for (const auto& run : runs_) lists.push_back(run->draw_list(grid_.tile_w, grid_.tile_h));
+        share_plot_ranges(lists);
+        for (int i = 0; i < grid_.n; ++i) {
+            render::DrawList& list = lists[static_cast<std::size_t>(i)];
+            texts_.add(list, options_, static_cast<std::size_t>(i), grid_.tile_h, t);
+            if (behind) {
+                renderer_.draw(list, settings_);
+                renderer_.queue_read_back();
+            } else {
+                place(renderer_.render(list, settings_), i);
+            }
+            if (options_.verbose) add_passes(passes_, renderer_.last_frame().passes);
+        }
+        physics_ += std::chrono::duration<double>(p1 - p0).count();
+        render_ += std::chrono::duration<double>(Clock::now() - p1).count();
+    }
+
+    // The oldest queued frame (the one tile), into the frame and to the encoder as frame k.
+    void take(int k) {
+        const auto start = Clock::now();
+        const render::Image tile = renderer_.take_read_back();
+        if (options_.verbose) passes_.read_back += renderer_.last_frame().passes.read_back;
+        place(tile, 0);
+        render_ += std::chrono::duration<double>(Clock::now() - start).count();
+        emit(k);
+    }
+
+    // Tile i into the frame. The first tile says the pixel format: the frame
+    // around the tiles, the compare grid's title card, and ffmpeg started for it.
+    void place(const render::Image& tile, int i) {
+        if (!encoder_.started()) {
+            frame_.width = options_.width;
+            frame_.height = options_.height;
+            frame_.channels = tile.channels;
+            frame_.pixels.assign(static_cast<std::size_t>(frame_.width) * frame_.height * frame_.channels, 24);
+            if (grid_.cols * grid_.rows > grid_.n) {  // the free cell after the last tile
+                title_card(frame_, scene_, options_.compare, grid_.x(grid_.n), grid_.y(grid_.n), grid_.tile_w);
+            }
+            encoder_.start(frame_.channels);
+        }
+        blit(frame_, tile, grid_.x(i), grid_.y(i));
+    }
+
+    // Video frame k is complete: to the encoder.
+    void emit(int k) {
+        encode_ += encoder_.write(frame_, k);
+        if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
+        char what[64];
+        std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
+                      (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start_).count()));
+        progress_.step(what);
+    }
+
+    const SceneDef& scene_;
+    const VideoOptions& options_;
+    std::vector<std::unique_ptr<SceneRun>>& runs_;
+    const TileGrid& grid_;
+    const TileTexts& texts_;
+    render::Renderer& renderer_;
+    const int frames_;
+    Encoder encoder_;
+    Progress progress_;
+    const render::RenderSettings settings_;
+    const Clock::time_point start_ = Clock::now();
+    render::Image frame_;
+    render::Renderer::PassTimes passes_;                  // ms, summed over the frames (options.verbose)
+    double physics_ = 0.0, render_ = 0.0, encode_ = 0.0;  // s
+};
+
 }  // namespace
 
 std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
@@ -421,96 +547,10 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     const auto context = render::create_context({.backend = options.backend.value_or(render::fastest_backend())});
     render::Renderer renderer(*context);
     renderer.time_passes(options.verbose);
-    render::Renderer::PassTimes passes;  // ms, summed over the frames
-    double encode = 0.0;                 // s
-    const auto start = Clock::now();
     std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
     const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
-    Encoder encoder(options);
-    render::Image frame;
-    // The first tile says the pixel format: the frame around the tiles, the
-    // compare grid's title card, and ffmpeg started for it.
-    auto begin_frames = [&](const render::Image& tile) {
-        frame.width = options.width;
-        frame.height = options.height;
-        frame.channels = tile.channels;
-        frame.pixels.assign(static_cast<std::size_t>(frame.width) * frame.height * frame.channels, 24);
-        if (grid.cols * grid.rows > grid.n) {  // the free cell after the last tile
-            title_card(frame, scene, options.compare, grid.x(grid.n), grid.y(grid.n), grid.tile_w);
-        }
-        encoder.start(frame.channels);
-    };
-    Progress progress("video", options.progress, frames);
-    double physics = 0.0, render_time = 0.0;  // s
-    // Video frame k is complete in `frame`: to the encoder.
-    auto emit = [&](int k) {
-        encode += encoder.write(frame, k);
-        if (interrupt_signal() != 0) check_interrupt("video", "frame " + std::to_string(k));
-        char what[64];
-        std::snprintf(what, sizeof what, "frame %d, %.1f frames/s", k + 1,
-                      (k + 1) / std::max(1e-9, std::chrono::duration<double>(Clock::now() - start).count()));
-        progress.step(what);
-    };
-    // One tile: frame k is drawn and its read queued; frame k - 1, drawn
-    // meanwhile by the renderer's threads, is taken and encoded. A grid of
-    // tiles reads each tile as it is drawn (the renderer redraws for each).
-    const bool behind = grid.n == 1;
-    const render::RenderSettings settings{.width = grid.tile_w, .height = grid.tile_h, .msaa_samples = 4};
-    auto take = [&](int k) {
-        const auto r0 = Clock::now();
-        const render::Image tile = renderer.take_read_back();
-        if (options.verbose) passes.read_back += renderer.last_frame().passes.read_back;
-        if (!encoder.started()) begin_frames(tile);
-        blit(frame, tile, grid.x(0), grid.y(0));
-        render_time += std::chrono::duration<double>(Clock::now() - r0).count();
-        emit(k);
-    };
-    for (int k = 0; k < frames; ++k) {
-        const double t = static_cast<double>(k) / options.fps;  // s, what this frame shows
-        const auto p0 = Clock::now();
-        for (auto& run : runs) {
-            const double dt = run->step().dt;
-            while (run->time() + dt <= t + 1e-9 && run->advance()) {
-            }
-        }
-        const auto p1 = Clock::now();
-        std::vector<render::DrawList> lists;
-        for (const auto& run : runs) lists.push_back(run->draw_list(grid.tile_w, grid.tile_h));
-        share_plot_ranges(lists);
-        for (int i = 0; i < grid.n; ++i) {
-            render::DrawList& list = lists[static_cast<std::size_t>(i)];
-            texts.add(list, options, static_cast<std::size_t>(i), grid.tile_h, t);
-            if (behind) {
-                renderer.draw(list, settings);
-                renderer.queue_read_back();
-                if (options.verbose) add_passes(passes, renderer.last_frame().passes);
-                continue;
-            }
-            const render::Image tile = renderer.render(list, settings);
-            if (options.verbose) add_passes(passes, renderer.last_frame().passes);
-            if (!encoder.started()) begin_frames(tile);
-            blit(frame, tile, grid.x(i), grid.y(i));
-        }
-        physics += std::chrono::duration<double>(p1 - p0).count();
-        render_time += std::chrono::duration<double>(Clock::now() - p1).count();
-        if (!behind) {
-            emit(k);
-        } else if (k > 0) {
-            take(k - 1);
-        }
-    }
-    if (behind) take(frames - 1);
-    encoder.finish();
-    VideoStats stats;
-    stats.frames = frames;
-    stats.physics_ms = 1e3 * physics / frames;
-    stats.render_ms = 1e3 * render_time / frames;
-    stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    stats.encode_ms = 1e3 * encode / frames;
-    add_passes(stats.passes, passes, 1.0 / frames);
-    stats.last_frame = runs.front()->frame();
-    stats.diverged_frame = runs.front()->diverged_frame();
-    return stats;
+    FrameLoop loop(scene, options, runs, grid, texts, renderer, frames);
+    return loop.run();
 }
 
 }  // namespace scenes
