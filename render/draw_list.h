@@ -212,6 +212,7 @@ struct RenderSettings {
     // sub-pixel offsets and averaged are a supersampled reference (the
     // anti-aliasing test's); 0 otherwise.
     float jitter_x = 0.0f, jitter_y = 0.0f;
+    bool operator==(const RenderSettings&) const = default;
 };
 
 // The MSAA sample counts the renderer takes: 0 or 1 (off), 2, 4 or 8. The one

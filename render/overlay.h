@@ -20,6 +20,7 @@ struct OverlayVertex {
     float r, g, b, a;  // sRGB colour, straight alpha
     float edge;        // lines: distance from the centre line, px; text: < -1e5 marks a glyph
     float half_width;  // lines: half the width, px (fills have a large value: no fade)
+    bool operator==(const OverlayVertex&) const = default;
 };
 
 class OverlayBatch {

@@ -84,6 +84,7 @@ public:
         std::size_t triangles = 0;  // including the shadow pass
         std::size_t draw_calls = 0;
         bool shadow_reused = false;  // the shadow map was the last frame's (no caster moved)
+        bool frame_reused = false;   // the whole frame was the last one's (the same list and settings)
         PassTimes passes;            // all zero unless time_passes(true)
     };
     FrameStats last_frame() const;

@@ -151,6 +151,17 @@ struct Renderer::Impl {
 
     detail::PassItems solid, ghost;
     std::vector<float> trails;  // x y z r g b a per vertex, triangles
+    // What the last frame was drawn from (draw() skips a frame drawn from the
+    // same): its settings, the list's numbers outside the items (camera,
+    // light, ground, background), the flattened items, the overlays.
+    struct FrameInputs {
+        RenderSettings settings;
+        std::vector<float> uniforms;
+        detail::PassItems solid, ghost;
+        std::vector<float> trails;
+        std::vector<detail::OverlayVertex> overlay;
+    };
+    FrameInputs last_inputs;
     detail::OverlayBatch overlay;
     FrameStats stats;
     bool has_frame = false;
@@ -162,6 +173,7 @@ struct Renderer::Impl {
     void draw(const DrawList& list, const RenderSettings& settings);
     void check_driver_limits(const RenderSettings& settings);
     void check_errors(const char* where);
+    bool same_as_last_frame(const DrawList& list, const RenderSettings& settings, const detail::Viewpoint& camera);
 
     // renderer_read.cpp: reading frames back.
     PendingRead start_read(GLuint framebuffer, const char* what);

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -130,16 +131,23 @@ TEST_F(RendererTest, ShadowOnTheGroundIsDarkerThanLitGround) {
 }
 
 // The shadow map is drawn again only when a caster or the light changed:
-// the same list reuses it, with the same bytes; a moved caster or a turned
-// light gives what a fresh renderer draws (the shadow moves with it).
+// a list that differs elsewhere (its text) reuses it, and gives what a fresh
+// renderer draws; a moved caster or a turned light too (the shadow moves
+// with it).
 TEST_F(RendererTest, TheShadowMapIsReusedOnlyWhileNoCasterMoved) {
     DrawList list = testing::lecture_scene();
     const RenderSettings settings{.width = 240, .height = 180, .msaa_samples = 4};
     const Image first = renderer_->render(list, settings);
     EXPECT_FALSE(renderer_->last_frame().shadow_reused);
-    const Image again = renderer_->render(list, settings);
+    DrawList retitled = list;
+    retitled.texts.front().text = "another title";
+    const Image again = renderer_->render(retitled, settings);
     EXPECT_TRUE(renderer_->last_frame().shadow_reused);
-    EXPECT_EQ(again.pixels, first.pixels);
+    EXPECT_FALSE(renderer_->last_frame().frame_reused);
+    {
+        Renderer fresh(*context_);
+        EXPECT_EQ(again.pixels, fresh.render(retitled, settings).pixels) << "as a fresh renderer draws it";
+    }
 
     ASSERT_FALSE(list.spheres.empty());
     DrawList moved = list;
@@ -218,6 +226,7 @@ TEST_F(RendererTest, PassTimesAreMeasuredOnlyWhenAskedAndChangeNoPixel) {
     const RenderSettings settings{.width = 320, .height = 240, .msaa_samples = 4};
     const Image plain = renderer_->render(list, settings);
     EXPECT_EQ(renderer_->last_frame().passes.total(), 0.0) << "not timed unless asked";
+    renderer_->render(testing::sphere_field(20), settings);  // else the frame and its shadows are reused
     renderer_->time_passes(true);
     const Image timed = renderer_->render(list, settings);
     const Renderer::PassTimes t = renderer_->last_frame().passes;
@@ -230,6 +239,40 @@ TEST_F(RendererTest, PassTimesAreMeasuredOnlyWhenAskedAndChangeNoPixel) {
     }
     renderer_->render(list, settings);
     EXPECT_EQ(renderer_->last_frame().passes.total(), 0.0) << "off again";
+}
+
+// A frame drawn from exactly the last frame's list and settings is not drawn
+// again (a paused viewer, a scene at rest): the targets still hold it, and
+// reading it back gives its bytes. Any difference draws it again: a colour,
+// a text, the camera, the settings.
+TEST_F(RendererTest, AnIdenticalFrameIsNotDrawnAgain) {
+    DrawList list = testing::lecture_scene();
+    testing::place_plot(list, 240, 180);
+    const RenderSettings settings{.width = 240, .height = 180, .msaa_samples = 4};
+    const Image first = renderer_->render(list, settings);
+    EXPECT_FALSE(renderer_->last_frame().frame_reused);
+    const Image again = renderer_->render(list, settings);
+    EXPECT_TRUE(renderer_->last_frame().frame_reused);
+    EXPECT_EQ(renderer_->last_frame().draw_calls, 0u);
+    EXPECT_EQ(again.pixels, first.pixels);
+    renderer_->draw(list, settings);
+    renderer_->queue_read_back();
+    EXPECT_EQ(renderer_->take_read_back().pixels, first.pixels) << "queued";
+
+    DrawList background = list, text = list, camera = list;
+    background.background.g += 0.01f;
+    text.texts.back().text += "0";
+    camera.camera.eye.x() += 0.001f;
+    RenderSettings no_msaa = settings;
+    no_msaa.msaa_samples = 0;
+    for (const auto& [what, changed, s] :
+         {std::tuple{"background", &background, settings}, std::tuple{"text", &text, settings},
+          std::tuple{"camera", &camera, settings}, std::tuple{"settings", &list, no_msaa}}) {
+        renderer_->render(list, settings);
+        const Image image = renderer_->render(*changed, s);
+        EXPECT_FALSE(renderer_->last_frame().frame_reused) << what;
+        EXPECT_NE(image.pixels, first.pixels) << what;
+    }
 }
 
 // A read queued behind its frame (video: frame k is taken while frame k + 1
