@@ -143,9 +143,17 @@ void prepare_mesa_environment(bool software) {
     const unsigned cores = std::clamp(std::thread::hardware_concurrency(), 1u, 8u);
     setenv("LP_NUM_THREADS", std::to_string(cores).c_str(), /*overwrite=*/0);
     // EGL would pick a GPU driver where one exists; golden images are made
-    // with llvmpipe, as OSMesa always does. A user who wants the GPU sets
-    // LIBGL_ALWAYS_SOFTWARE=0.
-    if (software) setenv("LIBGL_ALWAYS_SOFTWARE", "1", /*overwrite=*/0);
+    // with llvmpipe, as OSMesa always does. The gpu backend takes back what
+    // this set (Mesa reads it as each display is initialised), never what
+    // the user set.
+    static bool set_here = false;
+    if (software && std::getenv("LIBGL_ALWAYS_SOFTWARE") == nullptr) {
+        setenv("LIBGL_ALWAYS_SOFTWARE", "1", /*overwrite=*/1);
+        set_here = true;
+    } else if (!software && set_here) {
+        unsetenv("LIBGL_ALWAYS_SOFTWARE");
+        set_here = false;
+    }
 }
 
 }  // namespace detail
@@ -186,6 +194,18 @@ Backend fastest_backend() {
         if (!d.software) return Backend::gpu;
     }
     return default_backend();
+}
+
+std::unique_ptr<GlContext> create_fastest_context() {
+    if (fastest_backend() == Backend::gpu) {
+        try {
+            return create_context({.backend = Backend::gpu});
+        } catch (const RenderError& e) {
+            if (e.kind() != ErrorKind::unavailable) throw;
+            // Listed but not usable here (no driver for it, no access to its node): llvmpipe.
+        }
+    }
+    return create_context({.backend = default_backend()});
 }
 
 std::string describe_backends() {

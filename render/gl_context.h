@@ -128,5 +128,8 @@ private:
 // backend is not in this build or its library cannot make a 3.3 core context
 // here.
 std::unique_ptr<GlContext> create_context(const ContextOptions& options = {});
+// A context of fastest_backend(), or of default_backend() where the gpu one
+// cannot be made after all (a device listed but unusable here).
+std::unique_ptr<GlContext> create_fastest_context();
 
 }  // namespace render

@@ -83,7 +83,11 @@ EGLDisplay open_software_display() {
         if (display != EGL_NO_DISPLAY) return display;
     }
     if (has_extension(client, "EGL_EXT_platform_device")) {
+        // Mesa's software device, wherever glvnd lists it; else the first.
         const std::vector<EGLDeviceEXT> devices = all_devices();
+        for (std::size_t i = 0; i < devices.size(); ++i) {
+            if (describe(devices[i], static_cast<int>(i)).software) return device_display(devices[i]);
+        }
         if (!devices.empty()) return device_display(devices.front());
     }
     return EGL_NO_DISPLAY;
@@ -93,15 +97,19 @@ EGLDisplay open_software_display() {
 // there is none.
 EGLDisplay open_hardware_display() {
     const std::vector<EGLDeviceEXT> devices = all_devices();
+    int hardware = 0;
     for (std::size_t i = 0; i < devices.size(); ++i) {
-        if (!describe(devices[i], static_cast<int>(i)).software) {
-            const EGLDisplay display = device_display(devices[i]);
-            if (display != EGL_NO_DISPLAY) return display;
-        }
+        if (describe(devices[i], static_cast<int>(i)).software) continue;
+        ++hardware;
+        // The first that initialises (a listed device may have no driver here).
+        const EGLDisplay display = device_display(devices[i]);
+        EGLint major = 0, minor = 0;
+        if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) return display;
     }
-    throw RenderError(ErrorKind::unavailable, "gpu: no hardware EGL device here (" + std::to_string(devices.size()) +
-                                                  " device(s) found, all software); --backend auto falls back to "
-                                                  "llvmpipe, --backend list shows what was found");
+    throw RenderError(ErrorKind::unavailable,
+                      "gpu: no usable hardware EGL device here (" + std::to_string(devices.size()) +
+                          " device(s) found, " + std::to_string(hardware) +
+                          " hardware); --backend auto falls back to llvmpipe, --backend list shows what was found");
 }
 
 class EglContext final : public GlContext {

@@ -130,6 +130,7 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
         stats.frame_reused = true;  // the targets hold it still (a paused viewer, a scene at rest)
         return;
     }
+    has_frame = false;  // until this one is drawn whole: a failed frame is never reused or read
 
     gl.Disable(GL_CULL_FACE);  // thin cloth and open tubes are seen from both sides
     gl.Enable(GL_DEPTH_TEST);
@@ -153,7 +154,12 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     resolve_msaa();
     clock.lap(t.resolve);
     gl.BindVertexArray(0);
-    check_errors("drawing a frame");
+    try {
+        check_errors("drawing a frame");
+    } catch (const RenderError&) {
+        shadow_valid = false;  // the map may be part-drawn too
+        throw;
+    }
     has_frame = true;
 }
 

@@ -61,7 +61,12 @@ Renderer::Impl::PendingRead Renderer::Impl::start_read(GLuint framebuffer, const
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
     gl.ReadPixels(0, 0, width, height, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
     gl.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    check_errors(what);
+    try {
+        check_errors(what);
+    } catch (const RenderError&) {
+        free_buffers.push_back(read.buffer);  // deleted with the others
+        throw;
+    }
     return read;
 }
 

@@ -86,11 +86,16 @@ void add_backend_option(CLI::App* app, std::string* backend, bool fastest) {
     help += "; auto: gpu where a hardware device is found, else " +
             std::string(render::backend_name(render::default_backend())) +
             "; list: print the backends and the EGL devices found, and exit";
-    app->add_option("--backend", *backend, help)->capture_default_str()->each([](const std::string& value) {
-        if (value != "list") return;
-        std::printf("%s", render::describe_backends().c_str());
-        throw CLI::Success();
-    });
+    // list: when the option is parsed, before a missing scene is reported
+    // (CLI11 2.6 checks required arguments before running the callbacks).
+    app->add_option("--backend", *backend, help)
+        ->capture_default_str()
+        ->trigger_on_parse()
+        ->each([](const std::string& value) {
+            if (value != "list") return;
+            std::printf("%s", render::describe_backends().c_str());
+            throw CLI::Success();
+        });
 }
 
 }  // namespace scenes::cli

@@ -276,6 +276,10 @@ public:
         log_ = dir / ("." + options.output.filename().string() + tag + ".log");
     }
     ~Encoder() {
+        {
+            const std::lock_guard lock(mutex_);
+            queue_.clear();  // unfinished: what waits is not written
+        }
         stop_writer();
         if (finished_) return;
         if (pipe_ != nullptr) pclose(pipe_);
@@ -296,13 +300,14 @@ public:
     // spent waiting for room in the queue.
     double write(const render::Image& frame, int k) {
         const auto start = Clock::now();
+        Queued next{frame.pixels, k};  // copied outside the lock
         std::unique_lock lock(mutex_);
-        room_.wait(lock, [&] { return queue_.size() < kQueued || broken_at_ >= 0; });
+        room_.wait(lock, [&] { return queue_.size() + (writing_ ? 1 : 0) < kQueued || broken_at_ >= 0; });
         if (broken_at_ >= 0) {
             lock.unlock();
             broken();
         }
-        queue_.push_back({frame.pixels, k});
+        queue_.push_back(std::move(next));
         lock.unlock();
         ready_.notify_one();
         return std::chrono::duration<double>(Clock::now() - start).count();
@@ -340,10 +345,12 @@ private:
             ready_.wait(lock, [&] { return !queue_.empty() || stopping_; });
             if (queue_.empty()) return;
             Queued next = std::move(queue_.front());
+            queue_.pop_front();
+            writing_ = true;
             lock.unlock();
             const bool ok = std::fwrite(next.pixels.data(), 1, next.pixels.size(), pipe_) == next.pixels.size();
             lock.lock();
-            queue_.pop_front();
+            writing_ = false;
             if (!ok) {
                 broken_at_ = next.k;
                 queue_.clear();
@@ -379,7 +386,8 @@ private:
     std::condition_variable ready_, room_;  // a frame to write; room in the queue (or a failure)
     std::deque<Queued> queue_;
     bool stopping_ = false;
-    int broken_at_ = -1;  // the frame whose write failed
+    bool writing_ = false;  // a frame taken from the queue is being written (it counts against kQueued)
+    int broken_at_ = -1;    // the frame whose write failed
 };
 
 // The frames of one video, in order: physics up to each frame's time, the
@@ -544,7 +552,8 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     const TileGrid grid = tile_grid(static_cast<int>(runs.size()), options);
     const TileTexts texts(scene, options, grid, seconds);
 
-    const auto context = render::create_context({.backend = options.backend.value_or(render::fastest_backend())});
+    const auto context =
+        options.backend ? render::create_context({.backend = *options.backend}) : render::create_fastest_context();
     render::Renderer renderer(*context);
     renderer.time_passes(options.verbose);
     std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process

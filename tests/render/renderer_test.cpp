@@ -262,7 +262,7 @@ TEST_F(RendererTest, AnIdenticalFrameIsNotDrawnAgain) {
     DrawList background = list, text = list, camera = list;
     background.background.g += 0.01f;
     text.texts.back().text += "0";
-    camera.camera.eye.x() += 0.001f;
+    camera.camera.eye.x() += 0.05f;
     RenderSettings no_msaa = settings;
     no_msaa.msaa_samples = 0;
     for (const auto& [what, changed, s] :
