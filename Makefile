@@ -68,7 +68,7 @@ check-clang: deps
 # The scene loader's fuzzer (tools/fuzz): built with clang, ASan and UBSan
 # into build-fuzz/, run for FUZZ_SECONDS on the shipped and the malformed
 # scenes; what it finds lands in build-fuzz/findings/. make test runs it for
-# 60 s (the test fuzz.smoke, in build/fuzz).
+# 45 s (the test fuzz.smoke, in build/fuzz).
 FUZZ_SECONDS := 600
 fuzz: deps
 	FUZZ_JOBS=$(JOBS) sh tools/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz
