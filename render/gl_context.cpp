@@ -189,12 +189,18 @@ std::vector<EglDevice> egl_devices() {
     return detail::query_egl_devices();
 }
 
-Backend fastest_backend() {
-    for (const EglDevice& d : egl_devices()) {
+namespace {
+
+Backend fastest_of(const std::vector<EglDevice>& devices) {
+    for (const EglDevice& d : devices) {
         if (!d.software) return Backend::gpu;
     }
     return default_backend();
 }
+
+}  // namespace
+
+Backend fastest_backend() { return fastest_of(egl_devices()); }
 
 std::unique_ptr<GlContext> create_fastest_context() {
     if (fastest_backend() == Backend::gpu) {
@@ -222,7 +228,7 @@ std::string describe_backends() {
             "\n  " + std::to_string(d.index) + ": " + d.name + (d.software ? " (software, llvmpipe)" : " (hardware)");
     }
     if (!devices.empty()) out += "\n";
-    out += "fastest here: " + std::string(backend_name(fastest_backend())) + "\n";
+    out += "fastest here: " + std::string(backend_name(fastest_of(devices))) + "\n";
     return out;
 }
 

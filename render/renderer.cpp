@@ -92,10 +92,6 @@ std::vector<float> frame_uniforms(const DrawList& list, const detail::Viewpoint&
     return u;
 }
 
-}  // namespace
-
-namespace {
-
 // The passes' clock (Renderer::time_passes): lap(t) waits for the GPU and
 // adds the time since the last lap to t, ms; off, it does nothing.
 struct PassClock {
