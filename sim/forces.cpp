@@ -214,7 +214,8 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
 // generator list, the plan, the spring clock, the widths) costs as much as
 // the force. The same operations on each particle as that path: the field or
 // zero, the reference spring loop, then M⁻¹, one particle at a time.
-void ParticleForces::few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const {
+[[gnu::always_inline]] inline void ParticleForces::few_spring_acceleration(const ForceInput& in,
+                                                                           const Vec3Span& a) const {
     if (has_field_) {
         field_pass(in, a, false);
     } else {

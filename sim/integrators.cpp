@@ -510,11 +510,58 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
 }
 #undef PLAUSIBLE_IVDEP
 
+// The same two passes on a few particles (StepArrays::kFewParticles), a
+// particle at a time with its three components in one loop: on one bead on
+// one spring the three loops' set-up cost more than their arithmetic. The
+// same operations on each component, in the same order, as the passes above.
+// The step pass also applies the watchdog's per-particle rules to each
+// particle it leaves (s.watch, as the fused loops do), so that the World
+// needs no pass of its own.
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+void few_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
+               [[maybe_unused]] double h, std::index_sequence<J...>) {
+    for (std::size_t p = 0; p < s.x.n; ++p) {
+#pragma GCC unroll 3
+        for (int k = 0; k < 3; ++k) {
+            double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
+            ((kTableau.a[I][J] != 0.0 ? void((Xp += (h * kTableau.a[I][J]) * stage_v[J].c[k][p],
+                                              Vp += (h * kTableau.a[I][J]) * stage_a[J].c[k][p]))
+                                      : void()),
+             ...);
+            stage_x.c[k][p] = Xp;
+            stage_v[I].c[k][p] = Vp;
+        }
+    }
+}
+
+template <const auto& kTableau, std::size_t... I>
+void few_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h,
+                   std::index_sequence<I...>) {
+    std::size_t suspects = 0;
+    for (std::size_t p = 0; p < s.x.n; ++p) {
+        double X[3], V[3];
+#pragma GCC unroll 3
+        for (int k = 0; k < 3; ++k) {
+            X[k] = s.x.c[k][p], V[k] = s.v.c[k][p];
+            ((X[k] += (h * kTableau.b[I]) * stage_v[I].c[k][p], V[k] += (h * kTableau.b[I]) * stage_a[I].c[k][p]), ...);
+            s.x.c[k][p] = X[k], s.v.c[k][p] = V[k];
+        }
+        if (s.watch != nullptr) {
+            suspects += is_suspect(X[0], X[1], X[2], V[0], V[1], V[2], s.watch->max_speed2, s.watch->box);
+        }
+    }
+    if (s.watch != nullptr) s.watch->suspects += suspects, s.watch->counted = true;
+}
+
 // Stage I's pass and the step's, at the block's width. The lambdas take
 // their data as arguments, not captures: read through a closure, the loops
 // are not vectorised.
 template <const auto& kTableau, std::size_t I>
 void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    if (s.x.n <= StepArrays::kFewParticles) {
+        few_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{});
+        return;
+    }
     run_at_width(
         s.wide_loops(),
         [](const StepArrays* block, Vec3Span x, const Vec3Span* v, const Vec3Span* a, double step) {
@@ -524,6 +571,10 @@ void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage
 }
 template <const auto& kTableau>
 void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    if (s.x.n <= StepArrays::kFewParticles) {
+        few_step_pass<kTableau>(s, stage_v, stage_a, h, std::make_index_sequence<std::size(kTableau.b)>{});
+        return;
+    }
     run_at_width(
         s.wide_loops(),
         [](const StepArrays* block, const Vec3Span* v, const Vec3Span* a, double step) {

@@ -120,6 +120,7 @@ World::World(ParticleModel model)
 void World::set_wide(bool wide) {
     wide_ = wide && avx2_available();
     forces_.set_wide(wide_);
+    prepared_.info = nullptr;
 }
 
 void World::set_watchdog(const WatchdogLimits& limits) {
@@ -138,6 +139,7 @@ void World::set_watchdog(const WatchdogLimits& limits) {
 
 ParticleState& World::edit_state() {
     memory_valid_ = false;
+    prepared_.info = nullptr;  // the caller may move arrays
     return state_;
 }
 
@@ -230,6 +232,7 @@ void World::restore(const Snapshot& snapshot) {
                          std::to_string(state_.size()));
     }
     state_ = snapshot.state;
+    prepared_.info = nullptr;
     memory_a_ = snapshot.memory_a;
     memory_x_prev_ = snapshot.memory_x_prev;
     memory_valid_ = snapshot.memory_valid;
@@ -421,13 +424,7 @@ void World::update_body_colliders() {
     }
 }
 
-void World::watch() {
-    // The common case, at no cost: the integrator's pass counted no suspect
-    // particle, and there is no energy rule and no body to check.
-    if (watched_suspects_ == std::size_t{0} && watchdog_.energy_growth == 0.0 && !rigid_) {
-        watched_suspects_.reset();
-        return;
-    }
+void World::watch_closely() {
     for (;;) {
         // The energy rule costs a potential-energy pass: only when asked for.
         const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
@@ -482,12 +479,9 @@ void World::plasticity(double h) {
     }
 }
 
-void World::step_once(Integrator integrator, double h, bool watch_blocks) {
+void World::prepare_step(Integrator integrator) {
     const IntegratorInfo& info = integrator_info(integrator);
     const std::size_t n = state_.size();
-    if (memory_integrator_ != integrator || memory_h_ != h) {
-        memory_valid_ = false;
-    }
     // Scratch is allocated for the largest block the method will see (the
     // arrays below scratch_arrays_ already hold scratch_block_ particles).
     const std::size_t block = forces_.all_local() ? std::min(n, kBlock) : n;
@@ -500,30 +494,52 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     Vec3Array* memory = info.memory == Memory::acceleration        ? &memory_a_
                         : info.memory == Memory::previous_position ? &memory_x_prev_
                                                                    : nullptr;
-    if (memory != nullptr && memory->size() != n) {
-        memory->resize(n);
-    }
+    if (memory != nullptr && memory->size() != n) memory->resize(n);
+    prepared_ = {.info = &info, .n = n, .block = block};
+    if (n > 0 && n <= block) prepared_.whole = block_arrays(info, 0, n);
+}
 
-    std::size_t suspects = 0;
-    for (std::size_t first = 0; first < n; first += block) {
-        const std::size_t count = std::min(block, n - first);
-        // The watchdog's per-particle rules: inside a fused pass where the
-        // method has one, else in a pass of their own below.
-        StepArrays::Watch watch{watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
-        // Every member given (no zeroing first: this runs every substep).
-        const StepArrays s{
-            .first = first,
+StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, std::size_t count) {
+    return {.first = first,
             .x = state_.x.span().block(first, count),
             .v = state_.v.span().block(first, count),
             .a = info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
             .x_prev = info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
-            .memory_valid = memory_valid_,
+            .memory_valid = false,
             .temporaries = scratch_.data(),
             .wide = wide_,
-            .watch = watch_blocks ? &watch : nullptr};
+            .watch = nullptr};
+}
+
+void World::step_once(Integrator integrator, double h, bool watch_blocks) {
+    if (memory_integrator_ != integrator || memory_h_ != h) memory_valid_ = false;
+    const std::size_t n = state_.size();
+    if (prepared_.info == nullptr || prepared_.info->id != integrator || prepared_.n != n) prepare_step(integrator);
+    const IntegratorInfo& info = *prepared_.info;
+    // The watchdog's per-particle rules: inside a fused pass where the method
+    // has one, else in a pass of their own, while the block is still in cache.
+    StepArrays::Watch watch;
+    auto count_block = [&](const StepArrays& s) {
+        return watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
+    };
+    std::size_t suspects = 0;
+    if (n > 0 && n <= prepared_.block) {
+        // One block (every small system): its arrays as prepare_step built them.
+        StepArrays& s = prepared_.whole;
+        watch = {watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
+        s.memory_valid = memory_valid_;
+        s.watch = watch_blocks ? &watch : nullptr;
         info.step(forces_, s, state_.t, h);
-        // Else while the block is still in cache.
-        if (watch_blocks) suspects += watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
+        if (watch_blocks) suspects = count_block(s);
+    } else {
+        for (std::size_t first = 0; first < n; first += prepared_.block) {
+            StepArrays s = block_arrays(info, first, std::min(prepared_.block, n - first));
+            watch = {watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
+            s.memory_valid = memory_valid_;
+            s.watch = watch_blocks ? &watch : nullptr;
+            info.step(forces_, s, state_.t, h);
+            if (watch_blocks) suspects += count_block(s);
+        }
     }
     watched_suspects_ = watch_blocks ? std::optional<std::size_t>(suspects) : std::nullopt;
 

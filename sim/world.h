@@ -231,9 +231,24 @@ private:
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     void step_once(Integrator integrator, double h, bool watch_blocks);
+    // step_once's scratch, memory and (one block) arrays for the method, built
+    // again when the method or the particle count changes or the arrays may
+    // have moved (edit_state, restore, set_wide).
+    void prepare_step(Integrator integrator);
+    StepArrays block_arrays(const IntegratorInfo& info, std::size_t first, std::size_t count);
     void solve_constraints(double h);  // positions projected, velocities corrected
     void plasticity(double h);
-    void watch();                  // the watchdog after a substep, containing what it may
+    // The watchdog after a substep, containing what it may. The common case
+    // costs a few compares, inline: the integrator's pass counted no suspect
+    // particle, and there is no energy rule and no body to check.
+    void watch() {
+        if (watched_suspects_ == std::size_t{0} && watchdog_.energy_growth == 0.0 && !rigid_) {
+            watched_suspects_.reset();
+            return;
+        }
+        watch_closely();
+    }
+    void watch_closely();          // the rules in full (check, check_bodies), containing what it may
     void update_body_colliders();  // the rigid bodies' parts where they are now, for the particles
     void apply_drag(double h);     // the mouse spring, for one substep of h s
 
@@ -256,6 +271,13 @@ private:
     Vec3Array memory_x_prev_;
     std::vector<Vec3Array> scratch_;
     std::size_t scratch_arrays_ = 0, scratch_block_ = 0;  // scratch_[0, scratch_arrays_) hold scratch_block_ points
+    struct PreparedStep {
+        const IntegratorInfo* info = nullptr;  // nullptr: prepare_step first
+        std::size_t n = 0;                     // particles when prepared
+        std::size_t block = 0;                 // particles per block
+        StepArrays whole;                      // the arrays of the one block, when 0 < n <= block
+    };
+    PreparedStep prepared_;
     bool memory_valid_ = false;
     bool wide_ = false;  // set_wide
     Integrator memory_integrator_ = Integrator::symplectic_euler;
