@@ -537,20 +537,28 @@ void few_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, c
 template <const auto& kTableau, std::size_t... I>
 void few_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h,
                    std::index_sequence<I...>) {
+    constexpr std::size_t S = sizeof...(I);
+    const double hb[S] = {(h * kTableau.b[I])...};
     std::size_t suspects = 0;
-    for (std::size_t p = 0; p < s.x.n; ++p) {
-        double X[3], V[3];
 #pragma GCC unroll 3
-        for (int k = 0; k < 3; ++k) {
-            X[k] = s.x.c[k][p], V[k] = s.v.c[k][p];
-            ((X[k] += (h * kTableau.b[I]) * stage_v[I].c[k][p], V[k] += (h * kTableau.b[I]) * stage_a[I].c[k][p]), ...);
-            s.x.c[k][p] = X[k], s.v.c[k][p] = V[k];
-        }
-        if (s.watch != nullptr) {
-            suspects += is_suspect(X[0], X[1], X[2], V[0], V[1], V[2], s.watch->max_speed2, s.watch->box);
+    for (int k = 0; k < 3; ++k) {
+        double* x = s.x.c[k];
+        double* v = s.v.c[k];
+        const double* sv[S] = {stage_v[I].c[k]...};
+        const double* sa[S] = {stage_a[I].c[k]...};
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            double X = x[p], V = v[p];
+            ((X += hb[I] * sv[I][p], V += hb[I] * sa[I][p]), ...);
+            x[p] = X, v[p] = V;
         }
     }
-    if (s.watch != nullptr) s.watch->suspects += suspects, s.watch->counted = true;
+    if (s.watch != nullptr) {
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            suspects += is_suspect(s.x.c[0][p], s.x.c[1][p], s.x.c[2][p], s.v.c[0][p], s.v.c[1][p], s.v.c[2][p],
+                                   s.watch->max_speed2, s.watch->box);
+        }
+        s.watch->suspects += suspects, s.watch->counted = true;
+    }
 }
 
 // Stage I's pass and the step's, at the block's width. The lambdas take
