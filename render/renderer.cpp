@@ -9,6 +9,7 @@
 // linear light and encoded back.
 #include "render/renderer_impl.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -21,7 +22,8 @@
 namespace render {
 namespace {
 
-constexpr int kMaxSize = 8192;  // px per side
+constexpr int kMaxSize = 8192;      // px per side
+constexpr float kMinScale = 0.25f;  // RenderSettings::scale
 
 // Throws RenderError(bad_input) for settings no driver could draw.
 void check_settings(const RenderSettings& settings) {
@@ -37,6 +39,10 @@ void check_settings(const RenderSettings& settings) {
     if (settings.shadow_map_size < 16 || settings.shadow_map_size > kMaxSize) {
         throw RenderError(ErrorKind::bad_input, "shadow map size must be within 16 .. " + std::to_string(kMaxSize) +
                                                     " texels (got " + std::to_string(settings.shadow_map_size) + ")");
+    }
+    if (!(settings.scale >= kMinScale && settings.scale <= 1.0f)) {
+        throw RenderError(ErrorKind::bad_input, "scale must be within " + std::to_string(kMinScale) + " .. 1 (got " +
+                                                    std::to_string(settings.scale) + ")");
     }
     for (const float j : {settings.jitter_x, settings.jitter_y}) {
         if (!(std::abs(j) <= 1.0f)) {
@@ -55,14 +61,19 @@ void check_camera(const Camera& camera) {
     }
 }
 
+// A side of width x height drawn at `scale`, px.
+int scaled(int side, float scale) {
+    return std::max(1, static_cast<int>(std::lround(static_cast<float>(side) * scale)));
+}
+
 detail::Viewpoint camera_viewpoint(const Camera& camera, const RenderSettings& settings) {
     const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
     const Vec3 forward = (camera.target - camera.eye).normalized();
     Eigen::Matrix4f projection = projection_matrix(camera, aspect);
     if (settings.jitter_x != 0.0f || settings.jitter_y != 0.0f) {
         Eigen::Matrix4f shift = Eigen::Matrix4f::Identity();  // in normalised device coordinates
-        shift(0, 3) = 2.0f * settings.jitter_x / static_cast<float>(settings.width);
-        shift(1, 3) = -2.0f * settings.jitter_y / static_cast<float>(settings.height);
+        shift(0, 3) = 2.0f * settings.jitter_x / static_cast<float>(scaled(settings.width, settings.scale));
+        shift(1, 3) = -2.0f * settings.jitter_y / static_cast<float>(scaled(settings.height, settings.scale));
         projection = shift * projection;
     }
     return {projection * view_matrix(camera), camera.eye, forward,
@@ -114,7 +125,10 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     check_camera(list.camera);
     context.make_current();
     check_driver_limits(settings);
-    ensure_targets(settings.width, settings.height, settings.msaa_samples > 1 ? settings.msaa_samples : 0);
+    const int target_width = scaled(settings.width, settings.scale),
+              target_height = scaled(settings.height, settings.scale);
+    ensure_targets(target_width, target_height, settings.msaa_samples > 1 ? settings.msaa_samples : 0);
+    view_width = settings.width, view_height = settings.height;
     stats = {};
     if (time_passes) gl.Finish();  // the last frame's work is not this one's
     PassClock clock{gl, time_passes};
@@ -133,7 +147,7 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     gl.DepthFunc(GL_LESS);
     const detail::ShadowLookup shadow = shadow_pass(list.light, settings.shadow_map_size);
     clock.lap(t.shadow);
-    begin_main_pass(list, camera, shadow, pixel_scale(list.camera, settings.height));
+    begin_main_pass(list, camera, shadow, pixel_scale(list.camera, target_height));
     ground_pass(list);
     clock.lap(t.ground);
     opaque_pass();
@@ -164,7 +178,8 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
 // become the last frame's.
 bool Renderer::Impl::same_as_last_frame(const DrawList& list, const RenderSettings& settings,
                                         const detail::Viewpoint& camera) {
-    std::vector<float> uniforms = frame_uniforms(list, camera, pixel_scale(list.camera, settings.height));
+    std::vector<float> uniforms =
+        frame_uniforms(list, camera, pixel_scale(list.camera, scaled(settings.height, settings.scale)));
     FrameInputs& last = last_inputs;
     if (has_frame && settings == last.settings && uniforms == last.uniforms && solid == last.solid &&
         ghost == last.ghost && trails == last.trails && overlay.vertices() == last.overlay) {
@@ -228,7 +243,10 @@ void Renderer::blit_to_window() {
     r.context.make_current();
     r.gl.BindFramebuffer(GL_READ_FRAMEBUFFER, r.resolve_fbo);
     r.gl.BindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    r.gl.BlitFramebuffer(0, 0, r.width, r.height, 0, 0, r.width, r.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    // A frame drawn at a lower scale is stretched over the window, filtered.
+    const bool same = r.width == r.view_width && r.height == r.view_height;
+    r.gl.BlitFramebuffer(0, 0, r.width, r.height, 0, 0, r.view_width, r.view_height, GL_COLOR_BUFFER_BIT,
+                         same ? GL_NEAREST : GL_LINEAR);
     r.gl.BindFramebuffer(GL_FRAMEBUFFER, 0);  // what draws on top (a UI) draws into the window
 }
 

@@ -50,7 +50,8 @@ public:
     // timing a frame without reading it back.
     void finish();
     // Window contexts: copies the last frame into the window's back buffer
-    // (drawn at the window's framebuffer size, 1:1) and swaps buffers.
+    // (drawn at the window's framebuffer size: 1:1, or scaled up, filtered,
+    // from a frame drawn at a RenderSettings::scale below 1) and swaps buffers.
     void present();
     // The same without the swap, for a UI drawn on top before the caller swaps;
     // leaves the window's framebuffer bound.

@@ -128,6 +128,9 @@ struct Renderer::Impl {
     // Render targets: multisampled colour + depth when MSAA is on, resolved
     // into a single-sample colour + depth target that read_back() reads.
     int width = 0, height = 0, samples = 0;
+    // The last frame's size as asked (RenderSettings' width x height): the
+    // targets are this at its scale; overlays and the window use this.
+    int view_width = 0, view_height = 0;
     GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
     GLuint resolve_fbo = 0, resolve_color = 0, resolve_depth = 0;
     int shadow_size = 0;

@@ -218,7 +218,10 @@ void Renderer::Impl::overlay_pass() {
     gl.Disable(GL_DEPTH_TEST);
     const GLuint program = programs.overlay;
     gl.UseProgram(program);
-    gl.Uniform2f(gl.GetUniformLocation(program, "u_viewport"), static_cast<float>(width), static_cast<float>(height));
+    // Laid out in the frame's pixels as asked (view_width x view_height):
+    // drawn at a lower scale, they shrink with the scene.
+    gl.Uniform2f(gl.GetUniformLocation(program, "u_viewport"), static_cast<float>(view_width),
+                 static_cast<float>(view_height));
     gl.Uniform1i(gl.GetUniformLocation(program, "u_atlas"), 1);
     gl.Uniform1f(gl.GetUniformLocation(program, "u_on_edge"), Font::kOnEdge / 255.0f);
     gl.ActiveTexture(GL_TEXTURE1);

@@ -46,6 +46,9 @@ void check_channels(int channels, const char* what) {
 // may go on drawing.
 Renderer::Impl::PendingRead Renderer::Impl::start_read(GLuint framebuffer, const char* what) {
     context.make_current();
+    // The window shows the frame at the size asked; the targets hold it at its scale.
+    const int width = framebuffer == 0 ? view_width : this->width;
+    const int height = framebuffer == 0 ? view_height : this->height;
     PendingRead read{0, width, height};
     if (free_buffers.empty()) {
         gl.GenBuffers(1, &read.buffer);

@@ -42,6 +42,10 @@ Command add_view(CLI::App& app) {
     cmd->add_option("--msaa", args->options.msaa_samples,
                     "MSAA samples, 0 (off, as the goldens) .. 8; -1: 4 when still, off while running")
         ->capture_default_str();
+    cmd->add_option("--render-scale", args->options.render_scale,
+                    "Draw a running scene at this fraction of the window's pixels per side, 0.5 .. 1; -1: chosen "
+                    "frame by frame to keep a frame within 25 ms (still frames are drawn whole)")
+        ->capture_default_str();
     cmd->add_flag("!--no-panel", args->options.panel, "Hide the control panel (H shows it)");
     cmd->add_flag("--paused", args->options.paused, "Start paused (Space resumes, Right steps)");
     cmd->add_option("--exit-after", args->options.exit_after,

@@ -142,7 +142,8 @@ void Viewer::panel_plots() {
         ImGui::PlotLines(name.c_str(), d.data(), static_cast<int>(d.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
     }
     const auto r = render_ms_.data();
-    std::snprintf(label, sizeof label, "%.1f ms/frame", r.empty() ? 0.0 : r.back());
+    std::snprintf(label, sizeof label, "%.1f ms/frame, drawn at %d%%", r.empty() ? 0.0 : r.back(),
+                  static_cast<int>(std::lround(100.0f * render_scale_)));
     ImGui::PlotLines("rendering", r.data(), static_cast<int>(r.size()), 0, label, 0.0f, FLT_MAX, ImVec2(0, 40));
 }
 

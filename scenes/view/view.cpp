@@ -6,6 +6,7 @@
 #include "render/gl_context.h"
 #include "render/image.h"
 #include "render/renderer.h"
+#include "scenes/view/frame_budget.h"
 #include "scenes/view/input_script.h"
 #include "scenes/view/viewer.h"
 
@@ -111,6 +112,11 @@ void validate(const ViewOptions& o) {
         throw sim::InputError(
             "view: --msaa must be 0, 1, 2, 4 or 8, or -1 for 4 when still and off while running (got " +
             std::to_string(o.msaa_samples) + ")");
+    }
+    if (o.render_scale != -1.0f && !(o.render_scale >= view::FrameBudget::kMinScale && o.render_scale <= 1.0f)) {
+        throw sim::InputError("view: --render-scale must be within 0.5 .. 1, or -1 to keep a running frame within " +
+                              std::to_string(static_cast<int>(view::FrameBudget::kBudgetMs)) + " ms (got " +
+                              sim::format_value(o.render_scale) + ")");
     }
     if (!o.screenshot.empty() && o.screenshot.extension() != ".png") {
         throw sim::InputError("view: --screenshot must end in .png (got '" + o.screenshot.string() + "')");
@@ -296,11 +302,15 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
 
     auto last = Clock::now();
     int shown = 0, drawn = 0;
+    view::FrameBudget budget(options.render_scale);
+    bool drew_running = false;  // the last frame was drawn at the running scale
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
         const auto now = Clock::now();
-        viewer.update(std::chrono::duration<double>(now - last).count());
+        const double wall_dt = std::chrono::duration<double>(now - last).count();  // s, the last frame whole
+        budget.frame_took(1e3 * wall_dt, drew_running);
+        viewer.update(wall_dt);
         last = now;
         const bool done = viewer.quit || glfwWindowShouldClose(window) != 0 ||
                           (options.exit_after > 0 && ++shown >= options.exit_after);
@@ -310,8 +320,12 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         const int msaa = options.msaa_samples >= 0                     ? options.msaa_samples
                          : viewer.running() && options.exit_after == 0 ? 0
                                                                        : 4;
+        // Drawn whole when still, for a screenshot and as the last frame.
+        drew_running = viewer.running() && options.exit_after == 0 && !done && !viewer.screenshot_now;
+        const float scale = budget.scale(drew_running);
         const auto r0 = Clock::now();
-        renderer.draw(viewer.draw_list(width, height), {.width = width, .height = height, .msaa_samples = msaa});
+        renderer.draw(viewer.draw_list(width, height),
+                      {.width = width, .height = height, .msaa_samples = msaa, .scale = scale});
         renderer.blit_to_window();
         const double render_ms = 1e3 * std::chrono::duration<double>(Clock::now() - r0).count();
         if (viewer.panel()) {
@@ -323,7 +337,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             ImGui::Render();
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         }
-        viewer.record_times(render_ms);
+        viewer.record_times(render_ms, scale);
         if (viewer.screenshot_now) {
             // P: beside --screenshot (or here), named by scene and frame; a failed
             // write is reported and the session goes on.

@@ -28,6 +28,10 @@ struct ViewOptions {
     // off while the scene runs, so that a heavy scene stays interactive
     // (4x MSAA costs llvmpipe about 40% more per frame).
     int msaa_samples = -1;
+    // The fraction of the window's pixels per side a frame is drawn at while
+    // the scene runs, 0.5 .. 1; -1: chosen frame by frame to keep a frame
+    // within 25 ms (view/frame_budget.h). Still frames are drawn whole.
+    float render_scale = -1.0f;
     bool panel = true;                 // the Dear ImGui panel (H toggles it)
     bool paused = false;               // start paused
     int exit_after = 0;                // > 0: show this many frames, one scene step each (no wall clock), then exit

@@ -197,7 +197,8 @@ public:
         return list;
     }
 
-    void record_times(double render_ms) {
+    void record_times(double render_ms, float render_scale) {
+        render_scale_ = render_scale;
         // Per frame step since the last sampled one (World::SystemTimes
         // samples a light scene's frames, so several may share a figure).
         const sim::World& world = run_->world();
@@ -376,6 +377,7 @@ private:
     Pick grab_;
     double last_x_ = 0.0, last_y_ = 0.0;
     Series energy_, render_ms_;
+    float render_scale_ = 1.0f;  // the last frame's RenderSettings::scale
     struct SystemSeries {
         Series ms;                  // ms per frame step
         double last_seconds = 0.0;  // s, the world's time of it at the last sampled frame

@@ -339,6 +339,43 @@ TEST_F(RendererTest, RefusesBadSizesAndSampleCounts) {
     EXPECT_EQ(renderer_->render(list, {.width = 33, .height = 17}).width, 33);
 }
 
+// RenderSettings::scale (a viewer's dynamic resolution) draws the scene on
+// fewer pixels: the frame read back is the scene drawn at that size (the
+// same bytes as a frame asked at that size, overlays apart); overlays keep
+// their layout on the size asked, so they shrink with the scene; and a scale
+// outside 0.25 .. 1 is refused.
+TEST_F(RendererTest, AScaledFrameIsTheSceneDrawnOnFewerPixels) {
+    DrawList scene = testing::lecture_scene();
+    scene.texts.clear();
+    scene.plots.clear();
+    const Image half = renderer_->render(scene, {.width = 320, .height = 240, .scale = 0.5f});
+    EXPECT_EQ(half.width, 160);
+    EXPECT_EQ(half.height, 120);
+    EXPECT_EQ(half.pixels, renderer_->render(scene, {.width = 160, .height = 120}).pixels);
+
+    DrawList list = empty_scene();
+    list.background = Color{1, 1, 1, 1};
+    const Text text{"Plausible 42", Vec2(100, 60), 24.0f, Color{0, 0, 0, 1}};
+    list.texts.push_back(text);
+    const Image image = renderer_->render(list, {.width = 320, .height = 240, .scale = 0.5f});
+    const TextBox box = Font::default_font().measure(text.text, text.size);  // px at the size asked
+    int inside = 0, outside = 0;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            if (image.pixel(x, y).r > 200) continue;  // background
+            const bool in =
+                x >= 50 - 2 && x <= 50 + 0.5f * box.width + 2 && y >= 30 - 2 && y <= 30 + 0.5f * box.height + 2;
+            (in ? inside : outside)++;
+        }
+    }
+    EXPECT_GT(inside, 25) << "dark pixels inside the half-size text box";
+    EXPECT_EQ(outside, 0) << "dark pixels outside the half-size text box";
+
+    for (const float scale : {0.2f, 1.5f, std::nanf("")}) {
+        EXPECT_THROW(renderer_->draw(list, {.width = 64, .height = 64, .scale = scale}), RenderError) << scale;
+    }
+}
+
 TEST_F(RendererTest, NonFiniteItemsAreSkippedNotDrawn) {
     DrawList list = empty_scene();
     const float nan = std::numeric_limits<float>::quiet_NaN();

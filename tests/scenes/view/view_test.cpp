@@ -10,6 +10,7 @@
 #include "render/renderer.h"
 #include "scenes/draw/scene_run.h"
 #include "scenes/model/scene.h"
+#include "scenes/view/frame_budget.h"
 #include "sim/integrators.h"
 #include "tests/scenes/shell.h"
 
@@ -108,7 +109,7 @@ TEST_F(View, WithoutADisplayExits2AndSaysHowToGetAPicture) {
 
 TEST_F(View, BadOptionsExit2BeforeAWindowOpens) {
     for (const char* args : {"pendulum --size 10x10", "pendulum --screenshot shot.jpg", "pendulum --exit-after -3",
-                             "no-such-scene", "pendulum --dt -1"}) {
+                             "no-such-scene", "pendulum --dt -1", "pendulum --render-scale 0.3"}) {
         const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view " + std::string(args));
         EXPECT_EQ(r.status, 2) << args << ": " << r.out;
         EXPECT_EQ(r.out.find("no display"), std::string::npos) << args << ": refused for the display, not the input";
@@ -167,6 +168,63 @@ TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
     const Reference ref = reference("pendulum", 64, 480, 270);
     EXPECT_EQ(field(r.out, "state"), ref.hash) << r.out;
     expect_same_picture(dir_ / "last.png", ref.image);
+}
+
+// A running scene is drawn at --render-scale's fraction of the window's
+// pixels per side and stretched over the window (dynamic resolution; -1, the
+// default, picks the fraction frame by frame); a screenshot (P) taken while
+// it runs, and the last frame, are drawn whole: each is the scene's frame as
+// the off-screen render draws it at the window's size (no MSAA while running).
+TEST_F(View, FramesDrawnAtHalfScaleWhileRunningScreenshotWhole) {
+    const Ran r = play("pendulum", "--no-panel --size 480x270 --render-scale 0.5 --screenshot last.png", R"(
+1 key space   # runs from here: one step a drawn frame
+20 key p
+30 key q
+)");
+    ASSERT_EQ(r.status, 0) << r.out;
+    int shot_frame = -1;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+        std::smatch m;
+        const std::string name = entry.path().filename().string();
+        if (std::regex_match(name, m, std::regex("view-pendulum-([0-9]+)\\.png"))) shot_frame = std::stoi(m[1]);
+    }
+    ASSERT_GT(shot_frame, 0) << "no screenshot from P: " << r.out;
+    auto still = [](int frames) {
+        const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("pendulum"));
+        scenes::SceneRun run(scene);
+        for (int k = 0; k < frames; ++k) run.advance();
+        const auto context = render::create_context({});
+        render::Renderer renderer(*context);
+        return renderer.render(run.draw_list(480, 270), {.width = 480, .height = 270, .msaa_samples = 0});
+    };
+    expect_same_picture(dir_ / ("view-pendulum-" + std::to_string(shot_frame) + ".png"), still(shot_frame));
+    expect_same_picture(dir_ / "last.png", still(std::stoi(field(r.out, "frame"))));
+}
+
+// The running scale follows the frames' times: down while a frame is over
+// the budget (by at most a fifth a frame, to the floor), up while frames have
+// room (a tenth a frame, to 1), steady inside the band; still frames and a
+// fixed --render-scale are never changed by it.
+TEST(FrameBudget, KeepsARunningFrameWithinItsBudget) {
+    using scenes::view::FrameBudget;
+    FrameBudget budget(-1.0f);
+    EXPECT_EQ(budget.scale(false), 1.0f);
+    const float start = budget.scale(true);
+    budget.frame_took(2 * FrameBudget::kBudgetMs, true);  // 50 ms: wants sqrt(0.85 / 2) ~ 0.65 of it
+    EXPECT_LT(budget.scale(true), start);
+    EXPECT_GE(budget.scale(true), 0.8f * start - FrameBudget::kStep);
+    for (int k = 0; k < 20; ++k) budget.frame_took(4 * FrameBudget::kBudgetMs, true);
+    EXPECT_EQ(budget.scale(true), FrameBudget::kMinScale);
+    const float low = budget.scale(true);
+    budget.frame_took(0.8 * FrameBudget::kBudgetMs, true);  // inside the band: stays
+    EXPECT_EQ(budget.scale(true), low);
+    budget.frame_took(0.2 * FrameBudget::kBudgetMs, false);  // a still frame says nothing
+    EXPECT_EQ(budget.scale(true), low);
+    for (int k = 0; k < 20; ++k) budget.frame_took(0.2 * FrameBudget::kBudgetMs, true);
+    EXPECT_EQ(budget.scale(true), 1.0f);
+    FrameBudget fixed(0.75f);
+    fixed.frame_took(4 * FrameBudget::kBudgetMs, true);
+    EXPECT_EQ(fixed.scale(true), 0.75f);
 }
 
 // I changes the integrator live: three steps with the scene's, three with the
