@@ -41,8 +41,9 @@ void check_settings(const RenderSettings& settings) {
                                                     " texels (got " + std::to_string(settings.shadow_map_size) + ")");
     }
     if (!(settings.scale >= kMinScale && settings.scale <= 1.0f)) {
-        throw RenderError(ErrorKind::bad_input, "scale must be within " + std::to_string(kMinScale) + " .. 1 (got " +
-                                                    std::to_string(settings.scale) + ")");
+        char message[80];
+        std::snprintf(message, sizeof message, "scale must be within %.2f .. 1 (got %g)", kMinScale, settings.scale);
+        throw RenderError(ErrorKind::bad_input, message);
     }
     for (const float j : {settings.jitter_x, settings.jitter_y}) {
         if (!(std::abs(j) <= 1.0f)) {

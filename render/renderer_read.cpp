@@ -47,22 +47,22 @@ void check_channels(int channels, const char* what) {
 Renderer::Impl::PendingRead Renderer::Impl::start_read(GLuint framebuffer, const char* what) {
     context.make_current();
     // The window shows the frame at the size asked; the targets hold it at its scale.
-    const int width = framebuffer == 0 ? view_width : this->width;
-    const int height = framebuffer == 0 ? view_height : this->height;
-    PendingRead read{0, width, height};
+    const int w = framebuffer == 0 ? view_width : width;
+    const int h = framebuffer == 0 ? view_height : height;
+    PendingRead read{0, w, h};
     if (free_buffers.empty()) {
         gl.GenBuffers(1, &read.buffer);
     } else {
         read.buffer = free_buffers.back();
         free_buffers.pop_back();
     }
-    const auto bytes = static_cast<GLsizeiptr>(4 * static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    const auto bytes = static_cast<GLsizeiptr>(4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     gl.BindBuffer(GL_PIXEL_PACK_BUFFER, read.buffer);
     gl.BufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
     gl.ReadBuffer(framebuffer == 0 ? GL_BACK : GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, width, height, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
+    gl.ReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
     gl.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
     try {
         check_errors(what);

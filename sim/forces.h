@@ -86,7 +86,7 @@ private:
     // a = M⁻¹ (field + central_only_'s force), in one or two passes.
     void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
     // a = M⁻¹ (field + few_springs_'s force) on a few particles.
-    void few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const;
+    inline void few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const;  // (defined in forces.cpp)
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every

@@ -510,13 +510,14 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
 }
 #undef PLAUSIBLE_IVDEP
 
-// The same two passes on a few particles (StepArrays::kFewParticles), a
-// particle at a time with its three components in one loop: on one bead on
-// one spring the three loops' set-up cost more than their arithmetic. The
-// same operations on each component, in the same order, as the passes above.
-// The step pass also applies the watchdog's per-particle rules to each
-// particle it leaves (s.watch, as the fused loops do), so that the World
-// needs no pass of its own.
+// The same two passes on a few particles (StepArrays::kFewParticles), with
+// no call through run_at_width and no arrays of pointers built per component:
+// on one bead on one spring that set-up cost more than the arithmetic. The
+// stage pass goes a particle at a time, its three components in one loop;
+// the step pass component by component, its pointers and h b_i in locals.
+// The same operations on each component, in the same order, as the passes
+// above. The step pass then applies the watchdog's per-particle rules to the
+// few particles (s.watch), so that the World needs no pass of its own.
 template <const auto& kTableau, std::size_t I, std::size_t... J>
 void few_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
                [[maybe_unused]] double h, std::index_sequence<J...>) {

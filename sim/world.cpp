@@ -531,6 +531,7 @@ void World::step_once(Integrator integrator, double h, bool watch_blocks) {
         s.watch = watch_blocks ? &watch : nullptr;
         info.step(forces_, s, state_.t, h);
         if (watch_blocks) suspects = count_block(s);
+        s.watch = nullptr;  // (a local's address)
     } else {
         for (std::size_t first = 0; first < n; first += prepared_.block) {
             StepArrays s = block_arrays(info, first, std::min(prepared_.block, n - first));

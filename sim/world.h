@@ -168,7 +168,9 @@ public:
     const RigidWorld* rigid() const { return rigid_.get(); }
     const ParticleState& state() const { return state_; }
     // Direct edits of x or v (a drag with the mouse, a teleport): the next step
-    // rebuilds the integrator's memory from the edited state.
+    // rebuilds the integrator's memory from the edited state. Call it again
+    // for each edit; a reference kept across step() may not be written: the
+    // step would not know its arrays moved.
     ParticleState& edit_state();
 
     // Grabs (or with nullopt lets go of) a particle or a body. On a particle
@@ -232,8 +234,8 @@ private:
     // by block (into watched_suspects_) as the integrator leaves each block.
     void step_once(Integrator integrator, double h, bool watch_blocks);
     // step_once's scratch, memory and (one block) arrays for the method, built
-    // again when the method or the particle count changes or the arrays may
-    // have moved (edit_state, restore, set_wide).
+    // again when the method or the particle count changes, the arrays may
+    // have moved (edit_state, restore), or the widths changed (set_wide).
     void prepare_step(Integrator integrator);
     StepArrays block_arrays(const IntegratorInfo& info, std::size_t first, std::size_t count);
     void solve_constraints(double h);  // positions projected, velocities corrected

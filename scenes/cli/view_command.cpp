@@ -44,7 +44,8 @@ Command add_view(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--render-scale", args->options.render_scale,
                     "Draw a running scene at this fraction of the window's pixels per side, 0.5 .. 1; -1: chosen "
-                    "frame by frame to keep a frame within 25 ms (still frames are drawn whole)")
+                    "frame by frame to keep a frame within 25 ms (still frames are drawn whole, and so are "
+                    "--exit-after's)")
         ->capture_default_str();
     cmd->add_flag("!--no-panel", args->options.panel, "Hide the control panel (H shows it)");
     cmd->add_flag("--paused", args->options.paused, "Start paused (Space resumes, Right steps)");

@@ -26,8 +26,10 @@ public:
     // The scale for the next frame: 1 when it is drawn still.
     float scale(bool running) const { return running ? scale_ : 1.0f; }
 
-    // The last frame took `ms` of wall time (everything: physics, drawing,
-    // panel, swap) drawn at scale(running).
+    // The last frame took `ms` of wall time drawn at scale(running):
+    // everything up to the swap (physics, drawing, panel), not the swap, which
+    // with vsync waits for the display (a frame would read 16.7 or 33.3 ms,
+    // never inside the band, and the scale would swing).
     void frame_took(double ms, bool running) {
         if (!running || fixed_ > 0 || !(ms > 0)) return;
         // Inside the budget with some room, or over it: move towards the
@@ -41,8 +43,9 @@ public:
     }
 
 private:
-    static constexpr float kStartScale =
-        0.75f;  // the first running frames: rises within a few frames where there is room
+    // The first running frames: a light scene's frames rise to 1 within a
+    // few frames (a tenth a frame), softer until then.
+    static constexpr float kStartScale = 0.75f;
     float fixed_;
     float scale_;
 };

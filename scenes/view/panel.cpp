@@ -5,6 +5,8 @@
 
 #include <imgui.h>
 
+#include <cmath>
+
 namespace scenes::view {
 
 // What the run is and where: the description, frame and time, the verdict,

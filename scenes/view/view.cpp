@@ -113,7 +113,7 @@ void validate(const ViewOptions& o) {
             "view: --msaa must be 0, 1, 2, 4 or 8, or -1 for 4 when still and off while running (got " +
             std::to_string(o.msaa_samples) + ")");
     }
-    if (o.render_scale != -1.0f && !(o.render_scale >= view::FrameBudget::kMinScale && o.render_scale <= 1.0f)) {
+    if (o.render_scale != -1.0 && !(o.render_scale >= view::FrameBudget::kMinScale && o.render_scale <= 1.0)) {
         throw sim::InputError("view: --render-scale must be within 0.5 .. 1, or -1 to keep a running frame within " +
                               std::to_string(static_cast<int>(view::FrameBudget::kBudgetMs)) + " ms (got " +
                               sim::format_value(o.render_scale) + ")");
@@ -302,15 +302,12 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
 
     auto last = Clock::now();
     int shown = 0, drawn = 0;
-    view::FrameBudget budget(options.render_scale);
-    bool drew_running = false;  // the last frame was drawn at the running scale
+    view::FrameBudget budget(static_cast<float>(options.render_scale));
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
         const auto now = Clock::now();
-        const double wall_dt = std::chrono::duration<double>(now - last).count();  // s, the last frame whole
-        budget.frame_took(1e3 * wall_dt, drew_running);
-        viewer.update(wall_dt);
+        viewer.update(std::chrono::duration<double>(now - last).count());
         last = now;
         const bool done = viewer.quit || glfwWindowShouldClose(window) != 0 ||
                           (options.exit_after > 0 && ++shown >= options.exit_after);
@@ -321,7 +318,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
                          : viewer.running() && options.exit_after == 0 ? 0
                                                                        : 4;
         // Drawn whole when still, for a screenshot and as the last frame.
-        drew_running = viewer.running() && options.exit_after == 0 && !done && !viewer.screenshot_now;
+        const bool drew_running = viewer.running() && options.exit_after == 0 && !done && !viewer.screenshot_now;
         const float scale = budget.scale(drew_running);
         const auto r0 = Clock::now();
         renderer.draw(viewer.draw_list(width, height),
@@ -354,6 +351,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             viewer.screenshot_now = false;
         }
         if (done && !options.screenshot.empty()) render::write_png(options.screenshot, renderer.read_window());
+        budget.frame_took(1e3 * std::chrono::duration<double>(Clock::now() - now).count(), drew_running);
         context->swap_buffers();
         if (done) break;
     }

@@ -30,8 +30,9 @@ struct ViewOptions {
     int msaa_samples = -1;
     // The fraction of the window's pixels per side a frame is drawn at while
     // the scene runs, 0.5 .. 1; -1: chosen frame by frame to keep a frame
-    // within 25 ms (view/frame_budget.h). Still frames are drawn whole.
-    float render_scale = -1.0f;
+    // within 25 ms (view/frame_budget.h). Still frames are drawn whole, and
+    // so are --exit-after's (one step each, as the goldens draw them).
+    double render_scale = -1.0;
     bool panel = true;                 // the Dear ImGui panel (H toggles it)
     bool paused = false;               // start paused
     int exit_after = 0;                // > 0: show this many frames, one scene step each (no wall clock), then exit

@@ -175,7 +175,7 @@ TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
 // default, picks the fraction frame by frame); a screenshot (P) taken while
 // it runs, and the last frame, are drawn whole: each is the scene's frame as
 // the off-screen render draws it at the window's size (no MSAA while running).
-TEST_F(View, FramesDrawnAtHalfScaleWhileRunningScreenshotWhole) {
+TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
     const Ran r = play("pendulum", "--no-panel --size 480x270 --render-scale 0.5 --screenshot last.png", R"(
 1 key space   # runs from here: one step a drawn frame
 20 key p
