@@ -23,8 +23,14 @@ int view(ViewArgs& a) {
     a.options.screenshot = a.screenshot;
     const SceneDef scene = a.scene.load();
     const ViewResult v = run_viewer(scene, a.scene.overrides(), a.options);
-    std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s\n", scene.name.c_str(), v.frame, v.time,
-                v.state_hash.c_str(), v.exploded ? " (exploded)" : "",
+    // Where running frames were drawn on fewer pixels (dynamic resolution), by how much.
+    char scales[64] = "";
+    if (v.running_scale_min > 0.0f && v.running_scale_min < 1.0f) {
+        std::snprintf(scales, sizeof scales, ", running frames drawn at %.0f-%.0f%%", 100.0f * v.running_scale_min,
+                      100.0f * v.running_scale_max);
+    }
+    std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s%s\n", scene.name.c_str(), v.frame, v.time,
+                v.state_hash.c_str(), v.exploded ? " (exploded)" : "", scales,
                 a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
     const int replay = report_replay(scene, v.diverged_frame, v.frame);
     return v.exploded ? kExitFailed : replay;

@@ -16,6 +16,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <utility>
@@ -303,6 +304,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
     auto last = Clock::now();
     int shown = 0, drawn = 0;
     view::FrameBudget budget(static_cast<float>(options.render_scale));
+    float scale_min = 0.0f, scale_max = 0.0f;  // of the frames drawn running
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
@@ -320,6 +322,10 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         // Drawn whole when still, for a screenshot and as the last frame.
         const bool drew_running = viewer.running() && options.exit_after == 0 && !done && !viewer.screenshot_now;
         const float scale = budget.scale(drew_running);
+        if (drew_running) {
+            scale_min = scale_max == 0.0f ? scale : std::min(scale_min, scale);
+            scale_max = std::max(scale_max, scale);
+        }
         const auto r0 = Clock::now();
         renderer.draw(viewer.draw_list(width, height),
                       {.width = width, .height = height, .msaa_samples = msaa, .scale = scale});
@@ -355,8 +361,13 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         context->swap_buffers();
         if (done) break;
     }
-    return {viewer.run().frame(), viewer.run().time(), viewer.run().verdict().exploded(), viewer.run().state_hash_hex(),
-            viewer.run().diverged_frame()};
+    return {viewer.run().frame(),
+            viewer.run().time(),
+            viewer.run().verdict().exploded(),
+            viewer.run().state_hash_hex(),
+            viewer.run().diverged_frame(),
+            scale_min,
+            scale_max};
 }
 
 }  // namespace scenes

@@ -48,6 +48,9 @@ struct ViewResult {
     bool exploded = false;
     std::string state_hash;   // hex, as `run --json` prints it: the same frame gives the same bits
     int diverged_frame = -1;  // a recording's: the first frame whose state differed from it; -1: none
+    // The scales running frames were drawn at (RenderSettings::scale), lowest
+    // and highest; 0 when no frame was drawn running.
+    float running_scale_min = 0.0f, running_scale_max = 0.0f;
 };
 
 // Opens the window and runs until it is closed (or after exit_after frames).

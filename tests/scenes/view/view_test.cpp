@@ -189,6 +189,7 @@ TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
         if (std::regex_match(name, m, std::regex("view-pendulum-([0-9]+)\\.png"))) shot_frame = std::stoi(m[1]);
     }
     ASSERT_GT(shot_frame, 0) << "no screenshot from P: " << r.out;
+    EXPECT_NE(r.out.find("running frames drawn at 50-50%"), std::string::npos) << r.out;
     auto still = [](int frames) {
         const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("pendulum"));
         scenes::SceneRun run(scene);
