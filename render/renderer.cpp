@@ -137,7 +137,8 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     const detail::Viewpoint camera = camera_viewpoint(list.camera, settings);
     prepare(list, camera.eye, camera.forward);
     clock.lap(t.prepare);
-    if (same_as_last_frame(list, settings, camera)) {
+    const float pixels = pixel_scale(list.camera, target_height);
+    if (same_as_last_frame(list, settings, camera, pixels)) {
         stats.frame_reused = true;  // the targets hold it still (a paused viewer, a scene at rest)
         return;
     }
@@ -148,7 +149,7 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     gl.DepthFunc(GL_LESS);
     const detail::ShadowLookup shadow = shadow_pass(list.light, settings.shadow_map_size);
     clock.lap(t.shadow);
-    begin_main_pass(list, camera, shadow, pixel_scale(list.camera, target_height));
+    begin_main_pass(list, camera, shadow, pixels);
     ground_pass(list);
     clock.lap(t.ground);
     opaque_pass();
@@ -178,9 +179,8 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
 // anywhere never compares equal: such a frame is drawn again); else they
 // become the last frame's.
 bool Renderer::Impl::same_as_last_frame(const DrawList& list, const RenderSettings& settings,
-                                        const detail::Viewpoint& camera) {
-    std::vector<float> uniforms =
-        frame_uniforms(list, camera, pixel_scale(list.camera, scaled(settings.height, settings.scale)));
+                                        const detail::Viewpoint& camera, float pixels) {
+    std::vector<float> uniforms = frame_uniforms(list, camera, pixels);
     FrameInputs& last = last_inputs;
     if (has_frame && settings == last.settings && uniforms == last.uniforms && solid == last.solid &&
         ghost == last.ghost && trails == last.trails && overlay.vertices() == last.overlay) {

@@ -176,7 +176,9 @@ struct Renderer::Impl {
     void draw(const DrawList& list, const RenderSettings& settings);
     void check_driver_limits(const RenderSettings& settings);
     void check_errors(const char* where);
-    bool same_as_last_frame(const DrawList& list, const RenderSettings& settings, const detail::Viewpoint& camera);
+    // pixels: pixel_scale of the frame's targets (the impostors' margin).
+    bool same_as_last_frame(const DrawList& list, const RenderSettings& settings, const detail::Viewpoint& camera,
+                            float pixels);
 
     // renderer_read.cpp: reading frames back.
     PendingRead start_read(GLuint framebuffer, const char* what);

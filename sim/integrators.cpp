@@ -490,9 +490,11 @@ void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v,
 template <const auto& kTableau>
 void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     constexpr std::size_t S = std::size(kTableau.b);
-    auto sum = [h]<std::size_t... I>(double& X, double& V, const double* const* sv, const double* const* sa,
-                                     std::size_t p, std::index_sequence<I...>) {
-        ((X += (h * kTableau.b[I]) * sv[I][p], V += (h * kTableau.b[I]) * sa[I][p]), ...);
+    double hb[S];  // h b_i, once
+    for (std::size_t i = 0; i < S; ++i) hb[i] = h * kTableau.b[i];
+    auto sum = [&hb]<std::size_t... I>(double& X, double& V, const double* const* sv, const double* const* sa,
+                                       std::size_t p, std::index_sequence<I...>) {
+        ((X += hb[I] * sv[I][p], V += hb[I] * sa[I][p]), ...);
     };
     for (int k = 0; k < 3; ++k) {
         double* x = s.x.c[k];
@@ -510,65 +512,17 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
 }
 #undef PLAUSIBLE_IVDEP
 
-// The same two passes on a few particles (StepArrays::kFewParticles), with
-// no call through run_at_width and no arrays of pointers built per component:
-// on one bead on one spring that set-up cost more than the arithmetic. The
-// stage pass goes a particle at a time, its three components in one loop;
-// the step pass component by component, its pointers and h b_i in locals.
-// The same operations on each component, in the same order, as the passes
-// above. The step pass then applies the watchdog's per-particle rules to the
-// few particles (s.watch), so that the World needs no pass of its own.
-template <const auto& kTableau, std::size_t I, std::size_t... J>
-void few_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
-               [[maybe_unused]] double h, std::index_sequence<J...>) {
-    for (std::size_t p = 0; p < s.x.n; ++p) {
-#pragma GCC unroll 3
-        for (int k = 0; k < 3; ++k) {
-            double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
-            ((kTableau.a[I][J] != 0.0 ? void((Xp += (h * kTableau.a[I][J]) * stage_v[J].c[k][p],
-                                              Vp += (h * kTableau.a[I][J]) * stage_a[J].c[k][p]))
-                                      : void()),
-             ...);
-            stage_x.c[k][p] = Xp;
-            stage_v[I].c[k][p] = Vp;
-        }
-    }
-}
-
-template <const auto& kTableau, std::size_t... I>
-void few_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h,
-                   std::index_sequence<I...>) {
-    constexpr std::size_t S = sizeof...(I);
-    const double hb[S] = {(h * kTableau.b[I])...};
-    std::size_t suspects = 0;
-#pragma GCC unroll 3
-    for (int k = 0; k < 3; ++k) {
-        double* x = s.x.c[k];
-        double* v = s.v.c[k];
-        const double* sv[S] = {stage_v[I].c[k]...};
-        const double* sa[S] = {stage_a[I].c[k]...};
-        for (std::size_t p = 0; p < s.x.n; ++p) {
-            double X = x[p], V = v[p];
-            ((X += hb[I] * sv[I][p], V += hb[I] * sa[I][p]), ...);
-            x[p] = X, v[p] = V;
-        }
-    }
-    if (s.watch != nullptr) {
-        for (std::size_t p = 0; p < s.x.n; ++p) {
-            suspects += is_suspect(s.x.c[0][p], s.x.c[1][p], s.x.c[2][p], s.v.c[0][p], s.v.c[1][p], s.v.c[2][p],
-                                   s.watch->max_speed2, s.watch->box);
-        }
-        s.watch->suspects += suspects, s.watch->counted = true;
-    }
-}
-
 // Stage I's pass and the step's, at the block's width. The lambdas take
 // their data as arguments, not captures: read through a closure, the loops
-// are not vectorised.
+// are not vectorised. A few particles (StepArrays::kFewParticles) go straight
+// to the pinned build: on one bead on one spring the call through
+// run_at_width cost more than the arithmetic; the step pass then applies the
+// watchdog's per-particle rules to them (s.watch), so that the World needs no
+// pass of its own.
 template <const auto& kTableau, std::size_t I>
 void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     if (s.x.n <= StepArrays::kFewParticles) {
-        few_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{});
+        array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{});
         return;
     }
     run_at_width(
@@ -581,7 +535,13 @@ void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage
 template <const auto& kTableau>
 void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
     if (s.x.n <= StepArrays::kFewParticles) {
-        few_step_pass<kTableau>(s, stage_v, stage_a, h, std::make_index_sequence<std::size(kTableau.b)>{});
+        step_pass<kTableau>(s, stage_v, stage_a, h);
+        if (s.watch == nullptr) return;
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            s.watch->suspects += is_suspect(s.x.c[0][p], s.x.c[1][p], s.x.c[2][p], s.v.c[0][p], s.v.c[1][p],
+                                            s.v.c[2][p], s.watch->max_speed2, s.watch->box);
+        }
+        s.watch->counted = true;
         return;
     }
     run_at_width(
