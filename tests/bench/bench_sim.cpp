@@ -365,7 +365,7 @@ void hand_bead_step(HandBead& b, sim::Integrator id, double h) {
                 b.a[c] = a_new;
             }
             return;
-        default:  // RK4 on (x, v), a(x) = -k x / m
+        default:  // rk4, the third method FixedCost times: RK4 on (x, v), a(x) = -k x / m
             for (int c = 0; c < 3; ++c) {
                 const double x1 = b.x[c], v1 = b.v[c], a1 = -k_over_m * x1;
                 const double x2 = x1 + 0.5 * h * v1, v2 = v1 + 0.5 * h * a1, a2 = -k_over_m * x2;
@@ -409,14 +409,11 @@ public:
     using ConsoleReporter::ConsoleReporter;
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
-            const auto counter = run.counters.find("per_particle_step");
             if (failed(run)) failures_.push_back(run.benchmark_name());
-            if (!failed(run) && run.run_type == Run::RT_Iteration && counter != run.counters.end()) {
-                samples_[run.benchmark_name()].push_back(counter->second.value);
-            }
-            const auto per_step = run.counters.find("per_step");
-            if (!failed(run) && run.run_type == Run::RT_Iteration && per_step != run.counters.end()) {
-                samples_[run.benchmark_name()].push_back(per_step->second.value);
+            if (failed(run) || run.run_type != Run::RT_Iteration) continue;
+            for (const char* name : {"per_particle_step", "per_step"}) {  // a run has one or the other
+                const auto counter = run.counters.find(name);
+                if (counter != run.counters.end()) samples_[run.benchmark_name()].push_back(counter->second.value);
             }
         }
         ConsoleReporter::ReportRuns(runs);
