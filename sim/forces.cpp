@@ -66,6 +66,7 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
         }
         has_field_ = true;
     }
+    springs_last_ = !others_.empty() && std::holds_alternative<Springs>(*others_.back()) && !plans_.back().few;
     if (others_.size() == 1) {
         central_only_ = std::get_if<CentralGravity>(others_[0]);
         const auto* springs = std::get_if<Springs>(others_[0]);
@@ -170,16 +171,18 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 }  // namespace
 
 void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const {
-    add_forces(in, f, skip_pinned);
+    add_forces(in, f, skip_pinned, false);
 }
 
 // sum_forces, inlined into acceleration: on one particle on one spring the
 // calls cost as much as the force.
-[[gnu::always_inline]] inline void ParticleForces::add_forces(const ForceInput& in, const Vec3Span& f,
-                                                              bool skip_pinned) const {
+[[gnu::always_inline]] inline bool ParticleForces::add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned,
+                                                              bool to_acceleration) const {
+    const bool fold = to_acceleration && springs_last_;
+    const SpringFinish finish{.from_zero = fold && !has_field_ && others_.size() == 1, .to_acceleration = fold};
     if (has_field_) {
         field_pass(in, f, false);
-    } else {
+    } else if (!finish.from_zero) {
         zero(f);
     }
     for (std::size_t k = 0; k < others_.size(); ++k) {
@@ -188,7 +191,7 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
             if (plans_[k].few) {
                 accumulate(*springs, in, f);  // what the fast pass would fall back to (no call on the way)
             } else {
-                accumulate(*springs, plans_[k], in, f, skip_pinned);
+                accumulate(*springs, plans_[k], in, f, skip_pinned, k + 1 == others_.size() ? finish : SpringFinish{});
             }
             if (spring_time_) {
                 spring_time_->seconds += std::chrono::duration<double>(SpringClock::now() - start).count();
@@ -198,6 +201,7 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
             std::visit([&](const auto& g) { accumulate(g, in, f); }, *others_[k]);
         }
     }
+    return fold;
 }
 
 // A fixed attractor alone (a swarm of test particles; with a field or not):
@@ -243,7 +247,7 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     }
     // A pinned particle's acceleration is its force times 0: the spring pass
     // may leave its sum out (see accumulate's skip_pinned).
-    add_forces(in, a, true);
+    if (add_forces(in, a, true, true)) return;
     run_at_width(
         wide_ && a.n > kFew, [](auto... p) { scale_by_inverse_mass(p...); }, a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
 }

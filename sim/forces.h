@@ -82,7 +82,11 @@ private:
     // f = every generator's force; skip_pinned: pinned particles' sums may be
     // left out (for accelerations, see the spring pass).
     void sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;
-    void add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const;  // the same, inlined
+    // The same, inlined; to_acceleration: where the last generator is a
+    // planned spring pass (springs_last_), it applies M⁻¹ too (and starts
+    // from zero when it is the only force), one pass over f instead of three.
+    // Returns true when f holds M⁻¹ f.
+    bool add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned, bool to_acceleration) const;
     // a = M⁻¹ (field + central_only_'s force), in one or two passes.
     void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
     // a = M⁻¹ (field + few_springs_'s force) on a few particles.
@@ -109,7 +113,8 @@ private:
     // reference loop's): on a few particles its acceleration goes straight
     // through it (few_spring_acceleration), without the general dispatch.
     const Springs* few_springs_ = nullptr;
-    bool wide_ = false;  // the passes' AVX2 builds (the same bits), where the CPU has it
+    bool springs_last_ = false;  // the last generator outside the field is a planned spring pass
+    bool wide_ = false;          // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
     SpringTime* spring_time_ = nullptr;
     using SpringClock = std::chrono::steady_clock;

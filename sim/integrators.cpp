@@ -44,59 +44,73 @@ namespace {
 // instead of two. Products and sums are correctly rounded at any width and
 // nothing is fused (-ffp-contract=off), so both give the same bits (tested).
 
-// The last kick of leapfrog and velocity Verlet, v += alpha a, with the
-// watchdog's per-particle rules on each particle's final x and v when kWatch
-// (counted into `watch`, as the fused loops do: the World then needs no pass
-// of its own over the block).
+// The watchdog's per-particle rules in leapfrog's and velocity Verlet's
+// passes (when kWatch, counted into `watch`, as the fused loops do: the World
+// then needs no pass of its own over the block): the first pass leaves each
+// particle's x final and checks it, the last kick its v. Each pass reads only
+// what it writes anyway.
+
+// The last kick, v += alpha a; kWatch: the rules on v.
 template <bool kWatch>
-void kick_loop(const double* __restrict x0, const double* __restrict x1, const double* __restrict x2,
-               double* __restrict v0, double* __restrict v1, double* __restrict v2, const double* __restrict a0,
+void kick_loop(double* __restrict v0, double* __restrict v1, double* __restrict v2, const double* __restrict a0,
                const double* __restrict a1, const double* __restrict a2, std::size_t n, double alpha,
                StepArrays::Watch* __restrict watch) {
-    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0;
     std::size_t count = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         v0[i] += alpha * a0[i];
         v1[i] += alpha * a1[i];
         v2[i] += alpha * a2[i];
-        if constexpr (kWatch) count += is_suspect(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
+        if constexpr (kWatch) count += is_suspect_velocity(v0[i], v1[i], v2[i], max_speed2);
     }
     if constexpr (kWatch) watch->suspects += count, watch->counted = true;
 }
 void last_kick(const StepArrays& s, double alpha, const Vec3Span& a) {
     auto run = [&](auto watch_constant) {
         run_at_width(
-            s.wide_loops(), [](auto... p) { kick_loop<decltype(watch_constant)::value>(p...); }, s.x.c[0], s.x.c[1],
-            s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], a.c[0], a.c[1], a.c[2], s.x.n, alpha, s.watch);
+            s.wide_loops(), [](auto... p) { kick_loop<decltype(watch_constant)::value>(p...); }, s.v.c[0], s.v.c[1],
+            s.v.c[2], a.c[0], a.c[1], a.c[2], s.x.n, alpha, s.watch);
     };
     s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
 }
 
-// Leapfrog's kick and drift: v += (h/2) a, then x += h v.
+// Leapfrog's kick and drift: v += (h/2) a, then x += h v; kWatch: the rules
+// on x.
+template <bool kWatch>
 void kick_drift_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                      double* __restrict v1, double* __restrict v2, const double* __restrict a0,
-                     const double* __restrict a1, const double* __restrict a2, std::size_t n, double h) {
+                     const double* __restrict a1, const double* __restrict a2, std::size_t n, double h,
+                     StepArrays::Watch* __restrict watch) {
+    const double box = kWatch ? watch->box : 0.0;
+    std::size_t count = 0;
     for (std::size_t i = 0; i < n; ++i) {
         v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
         x0[i] += h * v0[i], x1[i] += h * v1[i], x2[i] += h * v2[i];
+        if constexpr (kWatch) count += is_suspect_position(x0[i], x1[i], x2[i], box);
     }
+    if constexpr (kWatch) watch->suspects += count;
 }
 
 // Velocity Verlet's first half: the predicted velocity w = v + h a (when
 // kPredict: a force that reads no velocity needs none), the drift
-// x += h v + (h²/2) a, the kick v += (h/2) a.
-template <bool kPredict>
+// x += h v + (h²/2) a, the kick v += (h/2) a; kWatch: the rules on x.
+template <bool kPredict, bool kWatch>
 void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                             double* __restrict v1, double* __restrict v2, const double* __restrict a0,
                             const double* __restrict a1, const double* __restrict a2, double* __restrict w0,
-                            double* __restrict w1, double* __restrict w2, std::size_t n, double h) {
+                            double* __restrict w1, double* __restrict w2, std::size_t n, double h,
+                            StepArrays::Watch* __restrict watch) {
+    const double box = kWatch ? watch->box : 0.0;
+    std::size_t count = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if constexpr (kPredict) w0[i] = v0[i] + h * a0[i], w1[i] = v1[i] + h * a1[i], w2[i] = v2[i] + h * a2[i];
         x0[i] += h * v0[i] + 0.5 * h * h * a0[i];
         x1[i] += h * v1[i] + 0.5 * h * h * a1[i];
         x2[i] += h * v2[i] + 0.5 * h * h * a2[i];
         v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
+        if constexpr (kWatch) count += is_suspect_position(x0[i], x1[i], x2[i], box);
     }
+    if constexpr (kWatch) watch->suspects += count;
 }
 
 // Fills s.a with a(t, x, v) unless it still holds it from the last step.
@@ -327,9 +341,12 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    run_at_width(
-        s.wide_loops(), [](auto... a) { kick_drift_loop(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1],
-        s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h);
+    auto run = [&](auto watch_constant) {
+        run_at_width(
+            s.wide_loops(), [](auto... a) { kick_drift_loop<decltype(watch_constant)::value>(a...); }, s.x.c[0],
+            s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.x.n, h, s.watch);
+    };
+    s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
     dynamics.acceleration(t + h, s.first, s.x, s.v, s.a);
     last_kick(s, 0.5 * h, s.a);
 }
@@ -357,13 +374,20 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     // prediction to store.
     const bool predict = !dynamics.velocity_free();
     const Vec3Span v_predicted = predict ? s.scratch(0) : s.v;
-    auto run = [&](auto predict_constant) {
+    auto run = [&](auto predict_constant, auto watch_constant) {
         run_at_width(
-            s.wide_loops(), [](auto... a) { verlet_first_half_loop<decltype(predict_constant)::value>(a...); },
+            s.wide_loops(),
+            [](auto... a) {
+                verlet_first_half_loop<decltype(predict_constant)::value, decltype(watch_constant)::value>(a...);
+            },
             s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0],
-            v_predicted.c[1], v_predicted.c[2], s.x.n, h);
+            v_predicted.c[1], v_predicted.c[2], s.x.n, h, s.watch);
     };
-    predict ? run(std::true_type{}) : run(std::false_type{});
+    if (s.watch != nullptr) {
+        predict ? run(std::true_type{}, std::true_type{}) : run(std::false_type{}, std::true_type{});
+    } else {
+        predict ? run(std::true_type{}, std::false_type{}) : run(std::false_type{}, std::false_type{});
+    }
     dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
     last_kick(s, 0.5 * h, s.a);
 }

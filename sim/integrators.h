@@ -63,9 +63,9 @@ struct StepArrays {
     // World's pass over the block afterwards. Other paths leave it untouched,
     // and the World counts.
     struct Watch {
-        double max_speed2 = 0.0;  // m²/s²
-        double box = 0.0;         // m, the world box's half extent
-        std::size_t suspects = 0;
+        double max_speed2 = 0.0;   // m²/s²
+        double box = 0.0;          // m, the world box's half extent
+        std::size_t suspects = 0;  // failed rules (0 exactly when every particle passes: the only use)
         bool counted = false;
     };
     Watch* watch = nullptr;

@@ -148,8 +148,12 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
                 plan.base.push_back(plan.spring[e]);
                 plan.base_sign.push_back(plan.sign[e]);
             }
-        } else if (degree > 0) {  // (particles without springs have nothing to add)
+        } else if (degree > 0) {
             for (std::uint32_t r = p; r < p + count; ++r) plan.singles.push_back(r);
+        } else if (!plan.bare.empty() && plan.bare.back().p + plan.bare.back().count == p) {
+            plan.bare.back().count += count;
+        } else {
+            plan.bare.push_back({p, count});
         }
         p += count;
     }
@@ -237,52 +241,76 @@ template <Path kPath, SpringPlan::Kind kKind>
 // Pass 2 over a block, one coordinate: particle t's sum f[t] + s_0 g[base_0 + t]
 // + s_1 g[base_1 + t] + ..., left to right (the reference loop's order; s = ±1
 // is exact and f + (-g) is f - g). Eight particles side by side, their sums
-// held in registers while the ends go by.
+// held in registers while the ends go by. kFromZero: the sums start at +0,
+// not f (which holds nothing yet); kScale: each is stored times inv_m[t] (an
+// acceleration): the zero pass's, this pass's and M⁻¹'s operations, one pass.
+template <bool kFromZero, bool kScale>
 [[gnu::always_inline]] inline void block_sums(std::size_t count, std::size_t degree,
                                               const std::uint32_t* __restrict base, const double* __restrict sign,
-                                              const double* __restrict g, double* __restrict f) {
+                                              const double* __restrict g, const double* __restrict inv_m,
+                                              double* __restrict f) {
     constexpr std::size_t kLanes = 8;
     std::size_t t = 0;
     for (; t + kLanes <= count; t += kLanes) {
         double sum[kLanes];
-        for (std::size_t l = 0; l < kLanes; ++l) sum[l] = f[t + l];
+        for (std::size_t l = 0; l < kLanes; ++l) sum[l] = kFromZero ? 0.0 : f[t + l];
         for (std::size_t e = 0; e < degree; ++e) {
             const double* __restrict ge = g + base[e] + t;
             const double s = sign[e];
             for (std::size_t l = 0; l < kLanes; ++l) sum[l] += s * ge[l];
         }
-        for (std::size_t l = 0; l < kLanes; ++l) f[t + l] = sum[l];
+        for (std::size_t l = 0; l < kLanes; ++l) f[t + l] = kScale ? sum[l] * inv_m[t + l] : sum[l];
     }
     for (; t < count; ++t) {
-        double sum = f[t];
+        double sum = kFromZero ? 0.0 : f[t];
         for (std::size_t e = 0; e < degree; ++e) sum += sign[e] * g[base[e] + t];
-        f[t] = sum;
+        f[t] = kScale ? sum * inv_m[t] : sum;
     }
 }
 
-// The kernels of one instruction set; pass 1's by path and kind.
+// Particles [0, count) whose sums pass 2 leaves out (no springs, or pinned
+// and skipped), finished as block_sums would with no ends.
+template <bool kFromZero, bool kScale>
+[[gnu::always_inline]] inline void finish_unsummed(std::size_t count, const double* __restrict inv_m,
+                                                   double* __restrict f) {
+    for (std::size_t t = 0; t < count; ++t) {
+        const double sum = kFromZero ? 0.0 : f[t];
+        f[t] = kScale ? sum * inv_m[t] : sum;
+    }
+}
+
+// The kernels of one instruction set; pass 1's by path and kind, pass 2's
+// by finish.
 struct SpringKernels {
     using Forces = std::size_t (*)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*,
                                    const double*, const double*, const double*, const double*, const double*,
                                    const double*, const double*, const double*, const double*, double*, double*,
                                    double*);  // spring_forces<kPath, kKind>
-    Forces forces[3][3];                      // [Path][SpringPlan::Kind]
-    void (*block)(std::size_t, std::size_t, const std::uint32_t*, const double*, const double*, double*);
+    using Block = void (*)(std::size_t, std::size_t, const std::uint32_t*, const double*, const double*, const double*,
+                           double*);                                 // block_sums<kFromZero, kScale>
+    using Unsummed = void (*)(std::size_t, const double*, double*);  // finish_unsummed<kFromZero, kScale>
+    Forces forces[3][3];                                             // [Path][SpringPlan::Kind]
+    Block blocks[2][2];                                              // [kFromZero][kScale]
+    Unsummed unsummed[2][2];                                         // [kFromZero][kScale]
 
     Forces pass1(Path path, SpringPlan::Kind kind) const {
         return forces[static_cast<int>(path)][static_cast<int>(kind)];
     }
+    Block block(SpringFinish finish) const { return blocks[finish.from_zero][finish.to_acceleration]; }
+    Unsummed finish(SpringFinish finish) const { return unsummed[finish.from_zero][finish.to_acceleration]; }
 };
 
-// Every (path, kind) pair of one instruction set's spring_forces, in
-// SpringKernels::forces' order; F<kPath, kKind> is that set's instantiation.
-template <template <Path, SpringPlan::Kind> class F>
-constexpr SpringKernels kernels_of(decltype(SpringKernels::block) block) {
+// Every kernel of one instruction set, in SpringKernels' order:
+// F<kPath, kKind>::call, B<kFromZero, kScale>::call and U<kFromZero,
+// kScale>::call are that set's instantiations.
+template <template <Path, SpringPlan::Kind> class F, template <bool, bool> class B, template <bool, bool> class U>
+constexpr SpringKernels kernels_of() {
     using K = SpringPlan::Kind;
     return {{{&F<Path::run, K::stretch>::call, &F<Path::run, K::mixed>::call, &F<Path::run, K::linear>::call},
              {&F<Path::fan, K::stretch>::call, &F<Path::fan, K::mixed>::call, &F<Path::fan, K::linear>::call},
              {&F<Path::loose, K::stretch>::call, &F<Path::loose, K::mixed>::call, &F<Path::loose, K::linear>::call}},
-            block};
+            {{&B<false, false>::call, &B<false, true>::call}, {&B<true, false>::call, &B<true, true>::call}},
+            {{&U<false, false>::call, &U<false, true>::call}, {&U<true, false>::call, &U<true, true>::call}}};
 }
 
 template <Path kPath, SpringPlan::Kind kKind>
@@ -292,11 +320,21 @@ struct ForcesBase {
         return spring_forces<kPath, kKind>(a...);
     }
 };
-template <typename... A>
-void block_base(A... a) {
-    block_sums(a...);
-}
-constexpr SpringKernels kBaseKernels = kernels_of<ForcesBase>(&block_base);
+template <bool kFromZero, bool kScale>
+struct BlockBase {
+    template <typename... A>
+    static void call(A... a) {
+        block_sums<kFromZero, kScale>(a...);
+    }
+};
+template <bool kFromZero, bool kScale>
+struct UnsummedBase {
+    template <typename... A>
+    static void call(A... a) {
+        finish_unsummed<kFromZero, kScale>(a...);
+    }
+};
+constexpr SpringKernels kBaseKernels = kernels_of<ForcesBase, BlockBase, UnsummedBase>();
 
 #if defined(__x86_64__) && defined(__GNUC__)
 template <Path kPath, SpringPlan::Kind kKind>
@@ -306,19 +344,44 @@ struct ForcesAvx2 {
         return spring_forces<kPath, kKind>(a...);
     }
 };
-template <typename... A>
-[[gnu::target("avx2")]] void block_avx2(A... a) {
-    block_sums(a...);
-}
-constexpr SpringKernels kWideKernels = kernels_of<ForcesAvx2>(&block_avx2);
+template <bool kFromZero, bool kScale>
+struct BlockAvx2 {
+    template <typename... A>
+    [[gnu::target("avx2")]] static void call(A... a) {
+        block_sums<kFromZero, kScale>(a...);
+    }
+};
+template <bool kFromZero, bool kScale>
+struct UnsummedAvx2 {
+    template <typename... A>
+    [[gnu::target("avx2")]] static void call(A... a) {
+        finish_unsummed<kFromZero, kScale>(a...);
+    }
+};
+constexpr SpringKernels kWideKernels = kernels_of<ForcesAvx2, BlockAvx2, UnsummedAvx2>();
 #else
 constexpr SpringKernels kWideKernels = kBaseKernels;
 #endif
 
+// The reference loop with `finish` (accumulate's fallbacks): the zero pass,
+// the loop, the multiply by the inverse mass, as ParticleForces would run
+// them one after another.
+void reference_pass(const Springs& springs, const ForceInput& in, const Vec3Span& f, SpringFinish finish) {
+    if (finish.from_zero) {
+        for (int axis = 0; axis < 3; ++axis) std::fill(f.c[axis], f.c[axis] + f.n, 0.0);
+    }
+    accumulate(springs, in, f);
+    if (finish.to_acceleration) {
+        for (std::size_t p = 0; p < f.n; ++p) {
+            f.c[0][p] *= in.inv_mass[p], f.c[1][p] *= in.inv_mass[p], f.c[2][p] *= in.inv_mass[p];
+        }
+    }
+}
+
 // The fast pass itself (accumulate's, below: out of line, so that the few
 // springs that go the reference loop's way do not pay for its registers).
 [[gnu::noinline]] bool planned_pass(const Springs& springs, SpringPlan& plan, const ForceInput& in, const Vec3Span& f,
-                                    bool skip_pinned) {
+                                    bool skip_pinned, SpringFinish finish) {
     const std::size_t m = springs.list.size();
     // Plastic rest lengths are re-read. (One stays >= rest0 (1 - max_strain)
     // > 0, and one of 0 never creeps, so the kinds hold; the upgrade of a
@@ -351,40 +414,57 @@ constexpr SpringKernels kWideKernels = kBaseKernels;
     // direction, a force the reference loop leaves out (0 / 0 above). Rare
     // enough to redo the pass its way.
     if (zero_length > 0) {
-        accumulate(springs, in, f);
+        reference_pass(springs, in, f, finish);
         return false;
     }
     const double* g[3] = {gx, gy, gz};
+    const SpringKernels::Block block = kernels.block(finish);
     for (const SpringPlan::Block& b : plan.blocks) {
         for (int axis = 0; axis < 3; ++axis) {
-            kernels.block(b.count, b.degree, &plan.base[b.ends], &plan.base_sign[b.ends], g[axis], f.c[axis] + b.p);
+            block(b.count, b.degree, &plan.base[b.ends], &plan.base_sign[b.ends], g[axis], in.inv_mass + b.p,
+                  f.c[axis] + b.p);
         }
     }
+    const bool finished = finish.from_zero || finish.to_acceleration;  // else f is left as it came where nothing adds
+    const SpringKernels::Unsummed unsummed = kernels.finish(finish);
     for (const std::uint32_t p : plan.singles) {
         // A pinned anchor shared by many springs (a thousand beads on one
         // hook) is one long chain of dependent additions: most of the pass,
         // for a force that moves nothing. See the declaration for why
         // leaving it out is safe.
-        if (skip_pinned && in.inv_mass[p] == 0.0) continue;
-        double ax = f.c[0][p], ay = f.c[1][p], az = f.c[2][p];
+        if (skip_pinned && in.inv_mass[p] == 0.0) {
+            if (finished) {
+                for (int axis = 0; axis < 3; ++axis) unsummed(1, in.inv_mass + p, f.c[axis] + p);
+            }
+            continue;
+        }
+        double ax = finish.from_zero ? 0.0 : f.c[0][p], ay = finish.from_zero ? 0.0 : f.c[1][p],
+               az = finish.from_zero ? 0.0 : f.c[2][p];
         for (std::uint32_t e = plan.first[p]; e < plan.first[p + 1]; ++e) {
             const std::uint32_t s = plan.spring[e];
             ax += plan.sign[e] * gx[s], ay += plan.sign[e] * gy[s], az += plan.sign[e] * gz[s];
         }
+        if (finish.to_acceleration) ax *= in.inv_mass[p], ay *= in.inv_mass[p], az *= in.inv_mass[p];
         f.c[0][p] = ax, f.c[1][p] = ay, f.c[2][p] = az;
+    }
+    if (finished) {
+        for (const SpringPlan::Bare& b : plan.bare) {
+            for (int axis = 0; axis < 3; ++axis) unsummed(b.count, in.inv_mass + b.p, f.c[axis] + b.p);
+        }
     }
     return true;
 }
 
 }  // namespace
 
-bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, const Vec3Span& f, bool skip_pinned) {
+bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, const Vec3Span& f, bool skip_pinned,
+                SpringFinish finish) {
     const std::size_t m = springs.list.size();
     if (plan.few || plan.springs != m || in.first != 0 || plan.first.size() != in.x.n + 1) {
-        accumulate(springs, in, f);
+        reference_pass(springs, in, f, finish);
         return false;
     }
-    return planned_pass(springs, plan, in, f, skip_pinned);
+    return planned_pass(springs, plan, in, f, skip_pinned, finish);
 }
 
 }  // namespace sim

@@ -46,6 +46,9 @@ struct SpringPlan {
         std::uint32_t degree = 0;  // springs at each particle
         std::uint32_t ends = 0;    // end e of particle p + t is spring base[ends + e] + t, times sign[ends + e]
     };
+    struct Bare {
+        std::uint32_t p = 0, count = 0;  // particles p .. p + count - 1, without springs
+    };
     std::size_t springs = 0;             // size of the list the plan was built for
     std::vector<std::uint32_t> order;    // (springs) list index of the spring at each place in pass 1's order
     std::vector<double> k, c, rest;      // (springs) their parameters in that order, N/m, N·s/m, m
@@ -56,6 +59,7 @@ struct SpringPlan {
     std::vector<Block> blocks;           // pass 2, particles summed side by side
     std::vector<std::uint32_t> base;     // (ends of the blocks) see Block
     std::vector<double> base_sign;       // (ends of the blocks) +1 or -1
+    std::vector<Bare> bare;              // pass 2 adds nothing there (an acceleration is finished there too)
     std::vector<std::uint32_t> singles;  // pass 2, particles summed one at a time through first, spring, sign:
     std::vector<std::uint32_t> first;    // (particles + 1) particle p's ends are [first[p], first[p + 1])
     std::vector<std::uint32_t>
@@ -81,7 +85,19 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);
 // other end carries the same non-finite force and the watchdog names it (a
 // spring between two pinned particles moves nothing). Not for net forces
 // (force arrows show pinned particles too).
+//
+// finish: what the pass leaves in f. A force (the default: f + the springs'
+// force), or, as the last generator of an acceleration, a = M⁻¹ (f + the
+// springs' force) with in.inv_mass, and, from_zero, f not set yet (a = M⁻¹
+// (+0 + the springs' force): no generator before). The operations of a zero
+// pass, this pass and a multiply by the inverse mass, per particle, so their
+// bits; one pass over f instead of three. Every particle is finished, those
+// without springs and the pinned ones skipped included; the fallbacks too.
+struct SpringFinish {
+    bool from_zero = false;        // f holds nothing yet: the sums start at +0
+    bool to_acceleration = false;  // multiply each sum by in.inv_mass
+};
 bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, const Vec3Span& f,
-                bool skip_pinned = false);
+                bool skip_pinned = false, SpringFinish finish = {});
 
 }  // namespace sim

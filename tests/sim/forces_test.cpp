@@ -272,6 +272,71 @@ TEST(Spring, FastPassGivesTheReferenceLoopsBitsWithZeroRestSprings) {
     }
 }
 
+TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
+    // The pass as the last generator of an acceleration: it starts from zero
+    // (no generator before) or from a force, and multiplies by the inverse
+    // mass. Against the separate passes ParticleForces ran before (zero,
+    // the reference loop, M⁻¹), on a fan to a pinned anchor (a pinned single
+    // particle, skipped), a rope (a block), random springs (singles), ten
+    // particles without springs at the end and one in the middle; and on a
+    // spring of length 0 (the fallback).
+    const std::size_t n = 120;
+    Springs springs;
+    for (std::uint32_t b = 1; b <= 30; ++b) springs.list.push_back({0, b, 0.0, 1.0 + 0.1 * b, 0.0});
+    for (std::uint32_t i = 32; i < 80; ++i) springs.list.push_back({i, i + 1, 0.05, 300.0, 0.2});
+    Random random(23);
+    for (int s = 0; s < 60; ++s) {
+        const auto i = static_cast<std::uint32_t>(random.uniform(81.0, 109.0));
+        springs.list.push_back({i, i + 1 + static_cast<std::uint32_t>(s % 3), 0.1, random.uniform(1.0, 500.0), 0.3});
+    }
+    Fixture fx(n);
+    fx.inv_mass[0] = 0.0;  // the anchor is pinned
+    for (std::size_t i = 0; i < n; ++i) fx.v.set(i, random.normal(0.0, 1.0) * random.unit_vector());
+    Vec3Array weight(n);  // a force from before (gravity, say)
+    for (std::size_t i = 0; i < n; ++i) weight.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
+    auto expected = [&](const SpringFinish& finish, bool skip_pinned) {
+        Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
+        Vec3Array summed = f;
+        accumulate(springs, fx.input(), summed.span());
+        for (std::size_t i = 0; i < n; ++i) {
+            Vec3 value = skip_pinned && fx.inv_mass[i] == 0.0 ? f.get(i) : summed.get(i);
+            if (finish.to_acceleration) {
+                for (int k = 0; k < 3; ++k) value[k] *= fx.inv_mass[i];
+            }
+            f.set(i, value);
+        }
+        return f;
+    };
+    for (const bool wide : {false, true}) {
+        if (wide && !avx2_available()) continue;
+        SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
+        SpringPlan plan = plan_springs(springs, n);
+        plan.wide = wide;
+        ASSERT_FALSE(plan.blocks.empty());
+        ASSERT_FALSE(plan.singles.empty());
+        ASSERT_GE(plan.bare.size(), 2u) << "particle 31 and the last ten";
+        for (const bool length_zero : {false, true}) {
+            if (length_zero) fx.x.set(90, fx.x.get(91));  // a spring of rest length 0.1 m and length 0
+            for (const SpringFinish finish : {SpringFinish{false, false}, SpringFinish{false, true},
+                                              SpringFinish{true, false}, SpringFinish{true, true}}) {
+                for (const bool skip_pinned : {false, true}) {
+                    SCOPED_TRACE(testing::Message()
+                                 << "from_zero " << finish.from_zero << ", to_acceleration " << finish.to_acceleration
+                                 << ", skip_pinned " << skip_pinned << ", length 0 " << length_zero);
+                    Vec3Array f = weight;
+                    if (finish.from_zero) {  // what it holds must not matter
+                        for (std::size_t i = 0; i < n; ++i) f.set(i, Vec3::Constant(std::nan("")));
+                    }
+                    EXPECT_EQ(accumulate(springs, plan, fx.input(), f.span(), skip_pinned, finish), !length_zero);
+                    // (the fallback sums the anchor too: its expected value is the summed one)
+                    EXPECT_TRUE(same_bits(f, expected(finish, skip_pinned && !length_zero)));
+                }
+            }
+        }
+        fx.x.set(90, Fixture(n).x.get(90));
+    }
+}
+
 TEST(Spring, PotentialIsHalfKStretchSquared) {
     Fixture fx(2);
     fx.x.set(0, Vec3::Zero());
