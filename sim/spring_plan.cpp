@@ -138,9 +138,20 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
 
     // Pass 2: blocks of particles with one pattern, the rest one by one.
     plan_ends(springs, place, particle_count, plan);
+    std::vector<bool> bead(particle_count, false);  // in a direct fan (see Run::direct): not in pass 2
+    for (SpringPlan::Run& r : plan.runs) {
+        auto alone = [&](std::uint32_t p) { return plan.first[p + 1] - plan.first[p] == 1; };
+        r.direct = r.fan && r.kind == SpringPlan::Kind::linear;
+        for (std::uint32_t t = 0; t < r.count && r.direct; ++t) r.direct = alone(r.j + t);
+        for (std::uint32_t t = 0; t < r.count && r.direct; ++t) bead[r.j + t] = true;
+    }
     for (std::uint32_t p = 0; p < particle_count;) {
+        if (bead[p]) {
+            ++p;
+            continue;
+        }
         std::uint32_t count = 1;
-        while (p + count < particle_count && same_pattern(plan, p, count)) ++count;
+        while (p + count < particle_count && !bead[p + count] && same_pattern(plan, p, count)) ++count;
         const std::uint32_t degree = plan.first[p + 1] - plan.first[p];
         if (degree > 0 && count >= kMinRun) {
             plan.blocks.push_back({p, count, degree, static_cast<std::uint32_t>(plan.base.size())});
@@ -268,6 +279,27 @@ template <bool kFromZero, bool kScale>
     }
 }
 
+// A direct fan (SpringPlan::Run::direct) whose hub's sum is left out: each
+// bead's spring force g = k (x_j - x_hub) (spring_forces' linear kind) and
+// at once its sum, (f or +0) + (-1) g, times inv_m where kScale (block_sums'
+// operations on a block of degree 1). Linear springs need no direction: no
+// length of 0 to fall back on, so this may write f before the pass is sure
+// to finish.
+template <bool kFromZero, bool kScale>
+[[gnu::always_inline]] inline void direct_fan(std::size_t count, std::size_t hub, std::size_t j0,
+                                              const double* __restrict k, const double* __restrict x,
+                                              const double* __restrict y, const double* __restrict z,
+                                              const double* __restrict inv_m, double* __restrict fx,
+                                              double* __restrict fy, double* __restrict fz) {
+    for (std::size_t t = 0; t < count; ++t) {
+        const std::size_t j = j0 + t;
+        const double gx = k[t] * (x[j] - x[hub]), gy = k[t] * (y[j] - y[hub]), gz = k[t] * (z[j] - z[hub]);
+        const double sx = (kFromZero ? 0.0 : fx[j]) + -1.0 * gx, sy = (kFromZero ? 0.0 : fy[j]) + -1.0 * gy,
+                     sz = (kFromZero ? 0.0 : fz[j]) + -1.0 * gz;
+        fx[j] = kScale ? sx * inv_m[j] : sx, fy[j] = kScale ? sy * inv_m[j] : sy, fz[j] = kScale ? sz * inv_m[j] : sz;
+    }
+}
+
 // Particles [0, count) whose sums pass 2 leaves out (no springs, or pinned
 // and skipped), finished as block_sums would with no ends.
 template <bool kFromZero, bool kScale>
@@ -289,28 +321,34 @@ struct SpringKernels {
     using Block = void (*)(std::size_t, std::size_t, const std::uint32_t*, const double*, const double*, const double*,
                            double*);                                 // block_sums<kFromZero, kScale>
     using Unsummed = void (*)(std::size_t, const double*, double*);  // finish_unsummed<kFromZero, kScale>
-    Forces forces[3][3];                                             // [Path][SpringPlan::Kind]
-    Block blocks[2][2];                                              // [kFromZero][kScale]
-    Unsummed unsummed[2][2];                                         // [kFromZero][kScale]
+    using Direct = void (*)(std::size_t, std::size_t, std::size_t, const double*, const double*, const double*,
+                            const double*, const double*, double*, double*, double*);  // direct_fan<kFromZero, kScale>
+    Forces forces[3][3];                                                               // [Path][SpringPlan::Kind]
+    Block blocks[2][2];                                                                // [kFromZero][kScale]
+    Unsummed unsummed[2][2];                                                           // [kFromZero][kScale]
+    Direct direct[2][2];                                                               // [kFromZero][kScale]
 
     Forces pass1(Path path, SpringPlan::Kind kind) const {
         return forces[static_cast<int>(path)][static_cast<int>(kind)];
     }
     Block block(SpringFinish finish) const { return blocks[finish.from_zero][finish.to_acceleration]; }
     Unsummed finish(SpringFinish finish) const { return unsummed[finish.from_zero][finish.to_acceleration]; }
+    Direct fan(SpringFinish finish) const { return direct[finish.from_zero][finish.to_acceleration]; }
 };
 
 // Every kernel of one instruction set, in SpringKernels' order:
-// F<kPath, kKind>::call, B<kFromZero, kScale>::call and U<kFromZero,
-// kScale>::call are that set's instantiations.
-template <template <Path, SpringPlan::Kind> class F, template <bool, bool> class B, template <bool, bool> class U>
+// F<kPath, kKind>::call, and B, U and D<kFromZero, kScale>::call (block_sums,
+// finish_unsummed, direct_fan) are that set's instantiations.
+template <template <Path, SpringPlan::Kind> class F, template <bool, bool> class B, template <bool, bool> class U,
+          template <bool, bool> class D>
 constexpr SpringKernels kernels_of() {
     using K = SpringPlan::Kind;
     return {{{&F<Path::run, K::stretch>::call, &F<Path::run, K::mixed>::call, &F<Path::run, K::linear>::call},
              {&F<Path::fan, K::stretch>::call, &F<Path::fan, K::mixed>::call, &F<Path::fan, K::linear>::call},
              {&F<Path::loose, K::stretch>::call, &F<Path::loose, K::mixed>::call, &F<Path::loose, K::linear>::call}},
             {{&B<false, false>::call, &B<false, true>::call}, {&B<true, false>::call, &B<true, true>::call}},
-            {{&U<false, false>::call, &U<false, true>::call}, {&U<true, false>::call, &U<true, true>::call}}};
+            {{&U<false, false>::call, &U<false, true>::call}, {&U<true, false>::call, &U<true, true>::call}},
+            {{&D<false, false>::call, &D<false, true>::call}, {&D<true, false>::call, &D<true, true>::call}}};
 }
 
 template <Path kPath, SpringPlan::Kind kKind>
@@ -334,7 +372,14 @@ struct UnsummedBase {
         finish_unsummed<kFromZero, kScale>(a...);
     }
 };
-constexpr SpringKernels kBaseKernels = kernels_of<ForcesBase, BlockBase, UnsummedBase>();
+template <bool kFromZero, bool kScale>
+struct DirectBase {
+    template <typename... A>
+    static void call(A... a) {
+        direct_fan<kFromZero, kScale>(a...);
+    }
+};
+constexpr SpringKernels kBaseKernels = kernels_of<ForcesBase, BlockBase, UnsummedBase, DirectBase>();
 
 #if defined(__x86_64__) && defined(__GNUC__)
 template <Path kPath, SpringPlan::Kind kKind>
@@ -358,7 +403,14 @@ struct UnsummedAvx2 {
         finish_unsummed<kFromZero, kScale>(a...);
     }
 };
-constexpr SpringKernels kWideKernels = kernels_of<ForcesAvx2, BlockAvx2, UnsummedAvx2>();
+template <bool kFromZero, bool kScale>
+struct DirectAvx2 {
+    template <typename... A>
+    [[gnu::target("avx2")]] static void call(A... a) {
+        direct_fan<kFromZero, kScale>(a...);
+    }
+};
+constexpr SpringKernels kWideKernels = kernels_of<ForcesAvx2, BlockAvx2, UnsummedAvx2, DirectAvx2>();
 #else
 constexpr SpringKernels kWideKernels = kBaseKernels;
 #endif
@@ -401,7 +453,10 @@ void reference_pass(const Springs& springs, const ForceInput& in, const Vec3Span
     const double *vx = in.v.c[0], *vy = in.v.c[1], *vz = in.v.c[2];
     double *gx = plan.gx.data(), *gy = plan.gy.data(), *gz = plan.gz.data();
     std::size_t zero_length = 0;
+    // A direct fan's hub left out: its beads are finished below, without g.
+    auto straight = [&](const SpringPlan::Run& r) { return r.direct && skip_pinned && in.inv_mass[r.i] == 0.0; };
     for (const SpringPlan::Run& r : plan.runs) {
+        if (straight(r)) continue;
         zero_length += kernels.pass1(r.fan ? Path::fan : Path::run, kind(r.kind))(
             r.count, r.i, r.j, nullptr, nullptr, &plan.k[r.q], &plan.c[r.q], &plan.rest[r.q], x, y, z, vx, vy, vz,
             gx + r.q, gy + r.q, gz + r.q);
@@ -423,6 +478,18 @@ void reference_pass(const Springs& springs, const ForceInput& in, const Vec3Span
         for (int axis = 0; axis < 3; ++axis) {
             block(b.count, b.degree, &plan.base[b.ends], &plan.base_sign[b.ends], g[axis], in.inv_mass + b.p,
                   f.c[axis] + b.p);
+        }
+    }
+    // The direct fans' beads: a block of degree 1 each, on g, or straight
+    // from the positions.
+    constexpr double kBeadSign = -1.0;  // each bead is its spring's second particle
+    for (const SpringPlan::Run& r : plan.runs) {
+        if (straight(r)) {
+            kernels.fan(finish)(r.count, r.i, r.j, &plan.k[r.q], x, y, z, in.inv_mass, f.c[0], f.c[1], f.c[2]);
+        } else if (r.direct) {
+            for (int axis = 0; axis < 3; ++axis) {
+                block(r.count, 1, &r.q, &kBeadSign, g[axis], in.inv_mass + r.j, f.c[axis] + r.j);
+            }
         }
     }
     const bool finished = finish.from_zero || finish.to_acceleration;  // else f is left as it came where nothing adds

@@ -39,6 +39,13 @@ struct SpringPlan {
         std::uint32_t i = 0, j = 0;
         bool fan = false;
         Kind kind = Kind::stretch;
+        // A fan of linear springs whose beads j + t have no other spring (a
+        // swarm of particles each on a spring to one fixed point, the
+        // report's batch of oscillators): pass 2 leaves the beads out, and
+        // where the hub's own sum is not wanted (pinned, skip_pinned) pass 1
+        // finishes each bead's sum as it computes its spring's force,
+        // without the scratch g (the same operations: a block of degree 1).
+        bool direct = false;
     };
     struct Block {
         std::uint32_t p = 0;       // first particle of the block

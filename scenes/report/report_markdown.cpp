@@ -231,9 +231,9 @@ void peer_summary(std::ostream& md, const Findings& f) {
         md << ". There the cost is in our force and integrator passes, not in the World's overhead (the "
               "last column: nanoseconds per copy and step).";
         if (springs_over) {
-            md << " Our oscillators are beads on springs to one pinned anchor: the spring pass computes each "
-                  "spring's force into a scratch array, then sums it at each bead, and M⁻¹ is a pass of its "
-                  "own, three passes where odeint computes -x in one (the anchor's own sum is left out).";
+            md << " Our oscillators are beads on springs to one pinned anchor: one pass computes each spring's "
+                  "force and its bead's acceleration (the anchor's own sum is left out) where odeint computes -x, "
+                  "and it also reads each spring's stiffness and each bead's inverse mass.";
         }
         md << '\n';
     }

@@ -279,7 +279,9 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
     // the reference loop, M⁻¹), on a fan to a pinned anchor (a pinned single
     // particle, skipped), a rope (a block), random springs (singles), ten
     // particles without springs at the end and one in the middle; and on a
-    // spring of length 0 (the fallback).
+    // spring of length 0 (the fallback). The fan is direct: where the
+    // anchor's sum is skipped, its beads are summed as their forces are
+    // computed.
     const std::size_t n = 120;
     Springs springs;
     for (std::uint32_t b = 1; b <= 30; ++b) springs.list.push_back({0, b, 0.0, 1.0 + 0.1 * b, 0.0});
@@ -315,6 +317,8 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
         ASSERT_FALSE(plan.blocks.empty());
         ASSERT_FALSE(plan.singles.empty());
         ASSERT_GE(plan.bare.size(), 2u) << "particle 31 and the last ten";
+        ASSERT_TRUE(std::any_of(plan.runs.begin(), plan.runs.end(), [](const auto& r) { return r.direct; }))
+            << "the fan: beads without other springs";
         for (const bool length_zero : {false, true}) {
             if (length_zero) fx.x.set(90, fx.x.get(91));  // a spring of rest length 0.1 m and length 0
             for (const SpringFinish finish : {SpringFinish{false, false}, SpringFinish{false, true},
