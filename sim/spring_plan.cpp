@@ -139,8 +139,8 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
     // Pass 2: blocks of particles with one pattern, the rest one by one.
     plan_ends(springs, place, particle_count, plan);
     std::vector<bool> bead(particle_count, false);  // in a direct fan (see Run::direct): not in pass 2
+    auto alone = [&](std::uint32_t p) { return plan.first[p + 1] - plan.first[p] == 1; };  // one spring
     for (SpringPlan::Run& r : plan.runs) {
-        auto alone = [&](std::uint32_t p) { return plan.first[p + 1] - plan.first[p] == 1; };
         r.direct = r.fan && r.kind == SpringPlan::Kind::linear;
         for (std::uint32_t t = 0; t < r.count && r.direct; ++t) r.direct = alone(r.j + t);
         for (std::uint32_t t = 0; t < r.count && r.direct; ++t) bead[r.j + t] = true;
@@ -416,17 +416,16 @@ constexpr SpringKernels kWideKernels = kBaseKernels;
 #endif
 
 // The reference loop with `finish` (accumulate's fallbacks): the zero pass,
-// the loop, the multiply by the inverse mass, as ParticleForces would run
-// them one after another.
-void reference_pass(const Springs& springs, const ForceInput& in, const Vec3Span& f, SpringFinish finish) {
+// the loop, the multiply by the inverse mass, one after another (the zero
+// and the multiply are finish_unsummed's: +0, and f · (1/m)).
+void reference_pass(const Springs& springs, const SpringKernels& kernels, const ForceInput& in, const Vec3Span& f,
+                    SpringFinish finish) {
     if (finish.from_zero) {
-        for (int axis = 0; axis < 3; ++axis) std::fill(f.c[axis], f.c[axis] + f.n, 0.0);
+        for (int axis = 0; axis < 3; ++axis) kernels.finish({.from_zero = true})(f.n, in.inv_mass, f.c[axis]);
     }
     accumulate(springs, in, f);
     if (finish.to_acceleration) {
-        for (std::size_t p = 0; p < f.n; ++p) {
-            f.c[0][p] *= in.inv_mass[p], f.c[1][p] *= in.inv_mass[p], f.c[2][p] *= in.inv_mass[p];
-        }
+        for (int axis = 0; axis < 3; ++axis) kernels.finish({.to_acceleration = true})(f.n, in.inv_mass, f.c[axis]);
     }
 }
 
@@ -469,7 +468,7 @@ void reference_pass(const Springs& springs, const ForceInput& in, const Vec3Span
     // direction, a force the reference loop leaves out (0 / 0 above). Rare
     // enough to redo the pass its way.
     if (zero_length > 0) {
-        reference_pass(springs, in, f, finish);
+        reference_pass(springs, kernels, in, f, finish);
         return false;
     }
     const double* g[3] = {gx, gy, gz};
@@ -528,7 +527,7 @@ bool accumulate(const Springs& springs, SpringPlan& plan, const ForceInput& in, 
                 SpringFinish finish) {
     const std::size_t m = springs.list.size();
     if (plan.few || plan.springs != m || in.first != 0 || plan.first.size() != in.x.n + 1) {
-        reference_pass(springs, in, f, finish);
+        reference_pass(springs, plan.wide ? kWideKernels : kBaseKernels, in, f, finish);
         return false;
     }
     return planned_pass(springs, plan, in, f, skip_pinned, finish);
