@@ -51,6 +51,16 @@ int check(const CheckArgs& a) {
         throw sim::InputError(
             "--update with --set would bless a scene that is not the one in its file: drop one of them");
     }
+    // The shipped goldens are llvmpipe's: a GPU's frame is judged against
+    // them with another renderer's tolerance, never written as one of them.
+    if (o.update != UpdateMode::none && a.golden.empty() && !a.physics_only &&
+        parse_backend(a.backend) == render::Backend::gpu) {
+        throw sim::InputError("--update with --backend " + a.backend +
+                              " would bless a GPU's frames: the shipped goldens are llvmpipe's (" +
+                              std::string(render::backend_name(render::default_backend())) +
+                              "), and a GPU's frame is judged against them with another renderer's tolerance; "
+                              "drop --backend, or write your own goldens with --golden DIR");
+    }
     o.report_dir = a.report;
     if (!a.golden.empty()) {
         // A folder that is not there holds no goldens: say so once, not "no

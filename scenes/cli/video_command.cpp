@@ -23,7 +23,8 @@ int video(VideoArgs& a) {
     a.options.width = w;
     a.options.height = h;
     a.options.output = a.out;
-    a.options.backend = parse_backend(a.backend);
+    // auto: write_video takes the fastest context, llvmpipe where a listed GPU cannot be used.
+    if (a.backend != "auto") a.options.backend = parse_backend(a.backend);
     std::stringstream names(a.compare);
     for (std::string name; std::getline(names, name, ',');) a.options.compare.push_back(name);
     a.options.progress = progress_wanted();
@@ -31,6 +32,7 @@ int video(VideoArgs& a) {
     const VideoStats v = write_video(scene, a.scene.overrides(), a.options);
     std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
                 a.out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
+    std::printf("video: drawn by %s\n", v.renderer.c_str());
     if (a.options.verbose) {
         const render::Renderer::PassTimes& p = v.passes;
         std::printf(

@@ -559,7 +559,9 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
     std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
     const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
     FrameLoop loop(scene, options, runs, grid, texts, renderer, frames);
-    return loop.run();
+    VideoStats stats = loop.run();
+    stats.renderer = context->fingerprint().summary();
+    return stats;
 }
 
 }  // namespace scenes

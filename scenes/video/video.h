@@ -38,6 +38,7 @@ struct VideoStats {
     int diverged_frame = -1;             // a recording's: the first frame whose state differs from it; -1: none
     double encode_ms = 0.0;              // per frame: waiting for room in the encoder's queue
     render::Renderer::PassTimes passes;  // per frame, all tiles, ms (options.verbose; else zero)
+    std::string renderer;                // what drew the frames: the context's fingerprint, one line
 };
 
 // Writes options.output whole or not at all. Throws sim::InputError for bad

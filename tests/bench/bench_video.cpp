@@ -41,6 +41,7 @@ void video(benchmark::State& state, const std::string& scene_name, std::vector<s
     double frames = 0, physics = 0, render = 0, seconds = 0;
     for (auto _ : state) {
         const scenes::VideoStats s = scenes::write_video(scene, {}, o);
+        state.SetLabel(s.renderer);  // the fastest context here: a GPU where EGL finds one, else llvmpipe
         frames += s.frames;
         seconds += s.seconds;
         physics += s.physics_ms * s.frames;

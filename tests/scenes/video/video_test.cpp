@@ -198,6 +198,18 @@ TEST_F(Video, BackendListShowsTheBackendsAndTheEglDevicesFound) {
     EXPECT_TRUE(fs::is_empty(dir_)) << "no file written";
 }
 
+// A GPU's frame is judged against the shipped (llvmpipe) goldens, never
+// written as one: check --update with the gpu backend exits 2 before drawing.
+TEST_F(Video, CheckRefusesToBlessTheShippedGoldensWithTheGpuBackend) {
+    const std::string report = (dir_ / "report").string();
+    const std::string result =
+        run(std::string(PLAUSIBLE_EXE) + " check oscillator --backend gpu --update all --report " + report +
+            " 2>&1; echo \"status=$?\"");
+    EXPECT_NE(result.find("status=2"), std::string::npos) << result;
+    EXPECT_NE(result.find("would bless a GPU's frames"), std::string::npos) << result;
+    EXPECT_TRUE(fs::is_empty(dir_)) << "no report written";
+}
+
 TEST_F(Video, BadOptionsAreRefusedWithoutAFile) {
     const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("oscillator"));
     auto refused = [&](scenes::VideoOptions o, const std::string& fragment) {
