@@ -8,8 +8,9 @@
 namespace render::detail {
 
 std::unique_ptr<GlContext> create_osmesa_context();
-// hardware: the first hardware device of the device platform (Backend::gpu);
-// else the surfaceless platform or Mesa's software device (Backend::egl).
+// hardware: the first hardware device of the device platform, else a hardware
+// surfaceless display (Backend::gpu);
+// else Mesa's software device or a software surfaceless display (Backend::egl).
 std::unique_ptr<GlContext> create_egl_context(bool hardware);
 std::vector<EglDevice> query_egl_devices();
 std::unique_ptr<GlContext> create_glfw_context(const ContextOptions& options);

@@ -1,8 +1,11 @@
-// Off-screen contexts through EGL without a window system: Mesa's surfaceless
-// platform (EGL_MESA_platform_surfaceless), or else the device platform
-// (EGL_EXT_platform_device), for llvmpipe; the device platform on the first
-// hardware device (not EGL_MESA_device_software) for the gpu backend. A configless context (EGL_KHR_no_config_context)
-// with no surface: the renderer draws into its own framebuffer objects.
+// Off-screen contexts through EGL without a window system. llvmpipe (the egl
+// backend): Mesa's software device of the device platform
+// (EGL_EXT_platform_device, EGL_MESA_device_software), else the surfaceless
+// platform (EGL_MESA_platform_surfaceless) where it draws in software. A GPU
+// (the gpu backend): the first hardware device, else the surfaceless
+// platform where it draws in hardware (a vendor that lists no device). A
+// configless context (EGL_KHR_no_config_context) with no surface: the
+// renderer draws into its own framebuffer objects.
 #include "render/gl_context_backends.h"
 
 #include <EGL/egl.h>
@@ -37,12 +40,21 @@ RenderError egl_error(const std::string& what) {
 using QueryDevices = PFNEGLQUERYDEVICESEXTPROC;
 using QueryDeviceString = PFNEGLQUERYDEVICESTRINGEXTPROC;
 
+// EGL_EXT_device_base is the older name of enumeration and query together:
+// NVIDIA's 580 driver, alone under glvnd, names only it.
+bool can_enumerate_devices(const char* client) {
+    return has_extension(client, "EGL_EXT_device_enumeration") || has_extension(client, "EGL_EXT_device_base");
+}
+bool can_query_devices(const char* client) {
+    return has_extension(client, "EGL_EXT_device_query") || has_extension(client, "EGL_EXT_device_base");
+}
+
 // Every EGL device, in eglQueryDevicesEXT's order (none where the client
 // cannot enumerate them).
 std::vector<EGLDeviceEXT> all_devices() {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     auto query_devices = reinterpret_cast<QueryDevices>(eglGetProcAddress("eglQueryDevicesEXT"));
-    if (!has_extension(client, "EGL_EXT_device_enumeration") || query_devices == nullptr) return {};
+    if (!can_enumerate_devices(client) || query_devices == nullptr) return {};
     EGLint count = 0;
     if (!query_devices(0, nullptr, &count) || count <= 0) return {};
     std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
@@ -72,29 +84,58 @@ EGLDisplay device_display(EGLDeviceEXT device) {
     return get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
 }
 
-// llvmpipe: a display of the surfaceless platform, or of the first device, or none.
-EGLDisplay open_software_display() {
+// The surfaceless platform's display, initialised, with whether it draws in
+// software; none where there is no such platform or it does not initialise.
+// The display says which device it is on (EGL_EXT_device_query); a vendor
+// that cannot say is taken for hardware unless it is Mesa. For a vendor that
+// draws but lists no device (the H200 machine's first run, when only
+// EGL_EXT_device_enumeration was looked for, listed none and drew here).
+struct PlatformDisplay {
+    EGLDisplay display = EGL_NO_DISPLAY;
+    bool software = true;
+    std::string vendor;
+};
+
+PlatformDisplay surfaceless_display() {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     auto get_platform_display =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr) return EGL_NO_DISPLAY;
-    if (has_extension(client, "EGL_MESA_platform_surfaceless")) {
-        EGLDisplay display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-        if (display != EGL_NO_DISPLAY) return display;
+    if (get_platform_display == nullptr || !has_extension(client, "EGL_MESA_platform_surfaceless")) return {};
+    PlatformDisplay p;
+    p.display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    EGLint major = 0, minor = 0;
+    if (p.display == EGL_NO_DISPLAY || !eglInitialize(p.display, &major, &minor)) return {};
+    const char* vendor = eglQueryString(p.display, EGL_VENDOR);
+    p.vendor = vendor != nullptr ? vendor : "";
+    p.software = p.vendor.find("Mesa") != std::string::npos;
+    auto query_display =
+        reinterpret_cast<PFNEGLQUERYDISPLAYATTRIBEXTPROC>(eglGetProcAddress("eglQueryDisplayAttribEXT"));
+    EGLAttrib device = 0;
+    if (can_query_devices(client) && query_display != nullptr && query_display(p.display, EGL_DEVICE_EXT, &device) &&
+        device != 0) {
+        p.software = describe(reinterpret_cast<EGLDeviceEXT>(device), 0).software;
     }
+    return p;
+}
+
+// llvmpipe: Mesa's software device wherever glvnd lists it, else the
+// surfaceless platform's display where it draws in software; none where
+// neither does (another vendor's hardware display is never taken for it).
+EGLDisplay open_software_display() {
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (has_extension(client, "EGL_EXT_platform_device")) {
-        // Mesa's software device, wherever glvnd lists it; else the first.
         const std::vector<EGLDeviceEXT> devices = all_devices();
         for (std::size_t i = 0; i < devices.size(); ++i) {
             if (describe(devices[i], static_cast<int>(i)).software) return device_display(devices[i]);
         }
-        if (!devices.empty()) return device_display(devices.front());
     }
-    return EGL_NO_DISPLAY;
+    const PlatformDisplay surfaceless = surfaceless_display();
+    return surfaceless.software ? surfaceless.display : EGL_NO_DISPLAY;
 }
 
-// The first hardware device's display; throws, naming what was found, when
-// there is none.
+// The first hardware device's display, else the surfaceless platform's
+// where it draws in hardware; throws, naming what was found, when there is
+// none.
 EGLDisplay open_hardware_display() {
     const std::vector<EGLDeviceEXT> devices = all_devices();
     int hardware = 0;
@@ -106,10 +147,13 @@ EGLDisplay open_hardware_display() {
         EGLint major = 0, minor = 0;
         if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) return display;
     }
+    const PlatformDisplay surfaceless = surfaceless_display();
+    if (surfaceless.display != EGL_NO_DISPLAY && !surfaceless.software) return surfaceless.display;
     throw RenderError(ErrorKind::unavailable,
                       "gpu: no usable hardware EGL device here (" + std::to_string(devices.size()) +
                           " device(s) found, " + std::to_string(hardware) +
-                          " hardware); --backend auto falls back to llvmpipe, --backend list shows what was found");
+                          " hardware, and no hardware surfaceless display); --backend auto falls back to llvmpipe, "
+                          "--backend list shows what was found");
 }
 
 class EglContext final : public GlContext {
@@ -117,7 +161,9 @@ public:
     explicit EglContext(bool hardware) : GlContext(hardware ? Backend::gpu : Backend::egl) {
         display_ = hardware ? open_hardware_display() : open_software_display();
         if (display_ == EGL_NO_DISPLAY) {
-            throw egl_error("no surfaceless or device platform display (is libegl-mesa0 installed?)");
+            throw egl_error(hardware ? "no hardware display"
+                                     : "no llvmpipe display: neither Mesa's software device nor a software "
+                                       "surfaceless display (is libegl-mesa0 installed?)");
         }
         EGLint major = 0, minor = 0;
         if (!eglInitialize(display_, &major, &minor)) throw egl_error("eglInitialize failed");
@@ -174,7 +220,21 @@ std::unique_ptr<GlContext> create_egl_context(bool hardware) { return std::make_
 std::vector<EglDevice> query_egl_devices() {
     std::vector<EglDevice> out;
     const std::vector<EGLDeviceEXT> devices = all_devices();
-    for (std::size_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], static_cast<int>(i)));
+    bool hardware = false;
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        out.push_back(describe(devices[i], static_cast<int>(i)));
+        hardware = hardware || !out.back().software;
+    }
+    if (!hardware) {
+        // A vendor that draws but lists no device: its surfaceless display.
+        const PlatformDisplay surfaceless = surfaceless_display();
+        if (surfaceless.display != EGL_NO_DISPLAY && !surfaceless.software) {
+            out.push_back(
+                {.index = static_cast<int>(out.size()),
+                 .software = false,
+                 .name = "surfaceless platform display (" + surfaceless.vendor + ", not listed as a device)"});
+        }
+    }
     return out;
 }
 

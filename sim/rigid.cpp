@@ -70,6 +70,14 @@ OdeLibrary::~OdeLibrary() {
 
 }  // namespace rigid_detail
 
+// ODE was initialised with automatic tracking (dInitODE2(0)): the thread's
+// data is freed when it exits, and an explicit cleanup is not allowed. Where
+// no world exists, ODE is not initialised and there is nothing to prepare.
+void prepare_rigid_thread() {
+    const std::lock_guard lock(ode_mutex());
+    if (ode_users() > 0) dAllocateODEDataForThread(dAllocateMaskAll);
+}
+
 void validate(const RigidSettings& s) {
     if (!s.gravity.allFinite()) throw InputError("rigid.gravity must be finite, in m/s²");
     if (s.iterations < 1 || s.iterations > 10'000) {

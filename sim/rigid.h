@@ -220,6 +220,12 @@ struct RigidModel {
 constexpr double kSlowMassRatio = 10.0;
 inline double mass_ratio(double a, double b) { return std::max(a, b) / std::min(a, b); }
 
+// ODE keeps data per thread. A thread that steps rigid worlds made on
+// another thread calls this first (video steps its scenes on a thread of
+// their own), once the worlds exist; the thread that made a world need not.
+// The data is freed when the thread exits.
+void prepare_rigid_thread();
+
 class RigidWorld {
 public:
     explicit RigidWorld(const RigidSettings& settings = {});

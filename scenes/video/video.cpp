@@ -6,8 +6,10 @@
 #include "scenes/common/interrupt.h"
 #include "scenes/common/progress.h"
 #include "scenes/draw/scene_run.h"
+#include "scenes/video/ahead.h"
 #include "sim/error.h"
 #include "sim/integrators.h"
+#include "sim/rigid.h"
 
 #include <unistd.h>
 
@@ -412,15 +414,20 @@ public:
 
     VideoStats run() {
         const bool behind = grid_.n == 1;
-        for (int k = 0; k < frames_; ++k) {
-            draw(k, behind);
-            if (!behind) {
-                emit(k);
-            } else if (k > 0) {
-                take(k - 1);
+        {
+            // The scenes step on a thread of their own, a frame or two ahead.
+            Ahead<Scenes> ahead(
+                frames_, 2, [] { sim::prepare_rigid_thread(); }, [this](int k) { return advance(k); });
+            for (int k = 0; k < frames_; ++k) {
+                draw(ahead.next(), behind);
+                if (!behind) {
+                    emit(k);
+                } else if (k > 0) {
+                    take(k - 1);
+                }
             }
+            if (behind) take(frames_ - 1);
         }
-        if (behind) take(frames_ - 1);
         encoder_.finish();
         VideoStats stats;
         stats.frames = frames_;
@@ -435,9 +442,14 @@ public:
     }
 
 private:
-    // Frame k's physics and tiles: each tile drawn and its read queued
-    // (`behind`), or drawn, read and put in the frame.
-    void draw(int k, bool behind) {
+    // What frame k shows: each tile's draw list, its texts added.
+    struct Scenes {
+        std::vector<render::DrawList> lists;
+        double physics = 0.0, lists_seconds = 0.0;  // s, stepping and building the lists
+    };
+
+    // Frame k's physics and draw lists (on the stepping thread).
+    Scenes advance(int k) {
         const double t = static_cast<double>(k) / options_.fps;  // s, what this frame shows
         const auto p0 = Clock::now();
         for (auto& run : runs_) {
@@ -446,12 +458,24 @@ private:
             }
         }
         const auto p1 = Clock::now();
-        std::vector<render::DrawList> lists;
-        for (const auto& run : runs_) lists.push_back(run->draw_list(grid_.tile_w, grid_.tile_h));
-        share_plot_ranges(lists);
+        Scenes scenes;
+        for (const auto& run : runs_) scenes.lists.push_back(run->draw_list(grid_.tile_w, grid_.tile_h));
+        share_plot_ranges(scenes.lists);
         for (int i = 0; i < grid_.n; ++i) {
-            render::DrawList& list = lists[static_cast<std::size_t>(i)];
-            texts_.add(list, options_, static_cast<std::size_t>(i), grid_.tile_h, t);
+            texts_.add(scenes.lists[static_cast<std::size_t>(i)], options_, static_cast<std::size_t>(i), grid_.tile_h,
+                       t);
+        }
+        scenes.physics = std::chrono::duration<double>(p1 - p0).count();
+        scenes.lists_seconds = std::chrono::duration<double>(Clock::now() - p1).count();
+        return scenes;
+    }
+
+    // A frame's tiles: each drawn and its read queued (`behind`), or drawn,
+    // read and put in the frame.
+    void draw(const Scenes& scenes, bool behind) {
+        const auto start = Clock::now();
+        for (int i = 0; i < grid_.n; ++i) {
+            const render::DrawList& list = scenes.lists[static_cast<std::size_t>(i)];
             if (behind) {
                 renderer_.draw(list, settings_);
                 renderer_.queue_read_back();
@@ -460,8 +484,8 @@ private:
             }
             if (options_.verbose) add_passes(passes_, renderer_.last_frame().passes);
         }
-        physics_ += std::chrono::duration<double>(p1 - p0).count();
-        render_ += std::chrono::duration<double>(Clock::now() - p1).count();
+        physics_ += scenes.physics;
+        render_ += scenes.lists_seconds + std::chrono::duration<double>(Clock::now() - start).count();
     }
 
     // The oldest queued frame (the one tile), into the frame and to the encoder as frame k.
