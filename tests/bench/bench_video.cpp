@@ -9,6 +9,7 @@
 // frames (the video decoded back to raw frames and encoded again with the
 // same command, timed in the same run). Issue 21's target: vs_encoder >= 0.4
 // for the showcase at 1280x720.
+#include "scenes/common/interrupt.h"
 #include "scenes/model/scene.h"
 #include "scenes/video/video.h"
 
@@ -18,8 +19,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <string>
 
@@ -40,7 +44,19 @@ void video(benchmark::State& state, const std::string& scene_name, std::vector<s
     o.compare = std::move(compare);
     double frames = 0, physics = 0, render = 0, seconds = 0;
     for (auto _ : state) {
-        const scenes::VideoStats s = scenes::write_video(scene, {}, o);
+        scenes::VideoStats s;
+        try {
+            s = scenes::write_video(scene, {}, o);
+        } catch (const scenes::Interrupted& e) {  // Ctrl+C: the video cleaned up; end as the command does
+            fs::remove_all(dir);
+            std::fprintf(stderr, "%s\n", e.what());
+            std::signal(e.signal(), SIG_DFL);
+            std::raise(e.signal());
+        } catch (const std::exception& e) {  // ffmpeg gone, a bad scene: this benchmark's error
+            state.SkipWithError(e.what());
+            fs::remove_all(dir);
+            return;
+        }
         state.SetLabel(s.renderer);  // the fastest context here: a GPU where EGL finds one, else llvmpipe
         frames += s.frames;
         seconds += s.seconds;
