@@ -8,8 +8,7 @@
 namespace render::detail {
 
 std::unique_ptr<GlContext> create_osmesa_context();
-// hardware: the first hardware device of the device platform, else a hardware
-// surfaceless display (Backend::gpu);
+// hardware: the first hardware device of the device platform (Backend::gpu);
 // else Mesa's software device or a software surfaceless display (Backend::egl).
 std::unique_ptr<GlContext> create_egl_context(bool hardware);
 std::vector<EglDevice> query_egl_devices();

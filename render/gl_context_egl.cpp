@@ -2,8 +2,7 @@
 // backend): Mesa's software device of the device platform
 // (EGL_EXT_platform_device, EGL_MESA_device_software), else the surfaceless
 // platform (EGL_MESA_platform_surfaceless) where it draws in software. A GPU
-// (the gpu backend): the first hardware device, else the surfaceless
-// platform where it draws in hardware (a vendor that lists no device). A
+// (the gpu backend): the first hardware device that initialises. A
 // configless context (EGL_KHR_no_config_context) with no surface: the
 // renderer draws into its own framebuffer objects.
 #include "render/gl_context_backends.h"
@@ -84,38 +83,36 @@ EGLDisplay device_display(EGLDeviceEXT device) {
     return get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
 }
 
-// The surfaceless platform's display, initialised, with whether it draws in
-// software; none where there is no such platform or it does not initialise.
-// The display says which device it is on (EGL_EXT_device_query); a vendor
-// that cannot say is taken for hardware unless it is Mesa. For a vendor that
-// draws but lists no device (the H200 machine's first run, when only
-// EGL_EXT_device_enumeration was looked for, listed none and drew here).
-struct PlatformDisplay {
-    EGLDisplay display = EGL_NO_DISPLAY;
-    bool software = true;
-    std::string vendor;
-};
-
-PlatformDisplay surfaceless_display() {
+// llvmpipe through the surfaceless platform, where no software device is
+// listed (a Mesa without device enumeration): its display, initialised, when
+// it says its device is Mesa's software one, or when it cannot say and its
+// vendor is Mesa (the egl backend has set LIBGL_ALWAYS_SOFTWARE, so Mesa
+// draws with llvmpipe). Any other vendor's display (NVIDIA's drew on its GPU
+// here) is refused, and let go again where this initialised it.
+EGLDisplay surfaceless_software_display() {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     auto get_platform_display =
         reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-    if (get_platform_display == nullptr || !has_extension(client, "EGL_MESA_platform_surfaceless")) return {};
-    PlatformDisplay p;
-    p.display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (get_platform_display == nullptr || !has_extension(client, "EGL_MESA_platform_surfaceless")) {
+        return EGL_NO_DISPLAY;
+    }
+    const EGLDisplay display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    if (display == EGL_NO_DISPLAY) return EGL_NO_DISPLAY;
+    const bool initialised_before = eglQueryString(display, EGL_VENDOR) != nullptr;
     EGLint major = 0, minor = 0;
-    if (p.display == EGL_NO_DISPLAY || !eglInitialize(p.display, &major, &minor)) return {};
-    const char* vendor = eglQueryString(p.display, EGL_VENDOR);
-    p.vendor = vendor != nullptr ? vendor : "";
-    p.software = p.vendor.find("Mesa") != std::string::npos;
+    if (!initialised_before && !eglInitialize(display, &major, &minor)) return EGL_NO_DISPLAY;
+    const char* vendor = eglQueryString(display, EGL_VENDOR);
+    bool software = vendor != nullptr && std::strstr(vendor, "Mesa") != nullptr;
     auto query_display =
         reinterpret_cast<PFNEGLQUERYDISPLAYATTRIBEXTPROC>(eglGetProcAddress("eglQueryDisplayAttribEXT"));
     EGLAttrib device = 0;
-    if (can_query_devices(client) && query_display != nullptr && query_display(p.display, EGL_DEVICE_EXT, &device) &&
+    if (can_query_devices(client) && query_display != nullptr && query_display(display, EGL_DEVICE_EXT, &device) &&
         device != 0) {
-        p.software = describe(reinterpret_cast<EGLDeviceEXT>(device), 0).software;
+        software = describe(reinterpret_cast<EGLDeviceEXT>(device), 0).software;
     }
-    return p;
+    if (software) return display;
+    if (!initialised_before) eglTerminate(display);
+    return EGL_NO_DISPLAY;
 }
 
 // llvmpipe: Mesa's software device wherever glvnd lists it, else the
@@ -129,13 +126,11 @@ EGLDisplay open_software_display() {
             if (describe(devices[i], static_cast<int>(i)).software) return device_display(devices[i]);
         }
     }
-    const PlatformDisplay surfaceless = surfaceless_display();
-    return surfaceless.software ? surfaceless.display : EGL_NO_DISPLAY;
+    return surfaceless_software_display();
 }
 
-// The first hardware device's display, else the surfaceless platform's
-// where it draws in hardware; throws, naming what was found, when there is
-// none.
+// The first hardware device's display; throws, naming what was found, when
+// there is none.
 EGLDisplay open_hardware_display() {
     const std::vector<EGLDeviceEXT> devices = all_devices();
     int hardware = 0;
@@ -147,13 +142,10 @@ EGLDisplay open_hardware_display() {
         EGLint major = 0, minor = 0;
         if (display != EGL_NO_DISPLAY && eglInitialize(display, &major, &minor)) return display;
     }
-    const PlatformDisplay surfaceless = surfaceless_display();
-    if (surfaceless.display != EGL_NO_DISPLAY && !surfaceless.software) return surfaceless.display;
     throw RenderError(ErrorKind::unavailable,
                       "gpu: no usable hardware EGL device here (" + std::to_string(devices.size()) +
                           " device(s) found, " + std::to_string(hardware) +
-                          " hardware, and no hardware surfaceless display); --backend auto falls back to llvmpipe, "
-                          "--backend list shows what was found");
+                          " hardware); --backend auto falls back to llvmpipe, --backend list shows what was found");
 }
 
 class EglContext final : public GlContext {
@@ -220,21 +212,7 @@ std::unique_ptr<GlContext> create_egl_context(bool hardware) { return std::make_
 std::vector<EglDevice> query_egl_devices() {
     std::vector<EglDevice> out;
     const std::vector<EGLDeviceEXT> devices = all_devices();
-    bool hardware = false;
-    for (std::size_t i = 0; i < devices.size(); ++i) {
-        out.push_back(describe(devices[i], static_cast<int>(i)));
-        hardware = hardware || !out.back().software;
-    }
-    if (!hardware) {
-        // A vendor that draws but lists no device: its surfaceless display.
-        const PlatformDisplay surfaceless = surfaceless_display();
-        if (surfaceless.display != EGL_NO_DISPLAY && !surfaceless.software) {
-            out.push_back(
-                {.index = static_cast<int>(out.size()),
-                 .software = false,
-                 .name = "surfaceless platform display (" + surfaceless.vendor + ", not listed as a device)"});
-        }
-    }
+    for (std::size_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], static_cast<int>(i)));
     return out;
 }
 

@@ -46,14 +46,20 @@ video_against_encoder() {
     size=$1
     clip="$work/showcase-$size.mp4"
     step "video $size, pass by pass" "$plausible" video showcase -o "$clip" --size "$size" --fps 30 --verbose
+    rm -f "$clip"
     step "video $size" "$plausible" video showcase -o "$clip" --size "$size" --fps 30
     [ -f "$clip" ] || return
-    ffmpeg -nostdin -loglevel error -y -i "$clip" -f rawvideo -pix_fmt rgb24 "$work/frames.rgb"
+    ffmpeg -nostdin -loglevel error -y -i "$clip" -f rawvideo -pix_fmt rgb24 "$work/frames.rgb" >> "$log" 2>&1
+    if [ ! -s "$work/frames.rgb" ]; then
+        echo "== ffmpeg alone $size: the video could not be decoded" >> "$log"
+        return
+    fi
     frames=$(($(stat -c %s "$work/frames.rgb") / (3 * ${size%x*} * ${size#*x})))
     start=$(date +%s.%N)
+    # scenes::ffmpeg_command's encoding, as video runs it (bench_video calls it).
     ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt rgb24 -s "$size" -r 30 -i - -c:v libx264 \
         -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 -color_trc bt709 \
-        -color_range tv -movflags +faststart -f mp4 "$work/alone.mp4" < "$work/frames.rgb"
+        -color_range tv -movflags +faststart -f mp4 "$work/alone.mp4" < "$work/frames.rgb" >> "$log" 2>&1
     end=$(date +%s.%N)
     awk "BEGIN { printf \"== ffmpeg alone $size: $frames frames in %.2f s, %.1f frames/s\\n\", \
         $end - $start, $frames / ($end - $start) }" >> "$log"

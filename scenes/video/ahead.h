@@ -9,10 +9,13 @@
 #pragma once
 
 #include <condition_variable>
+#include <cstddef>
 #include <deque>
 #include <exception>
 #include <functional>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <utility>
 
@@ -23,7 +26,8 @@ class Ahead {
 public:
     // `start` runs first on the thread (thread-local set-up), then make(k).
     Ahead(int count, std::size_t depth, std::function<void()> start, std::function<T(int)> make)
-        : depth_(depth),
+        : count_(count),
+          depth_(depth),
           thread_([this, count, start = std::move(start), make = std::move(make)] { produce(count, start, make); }) {}
     ~Ahead() {
         {
@@ -36,8 +40,11 @@ public:
     Ahead(const Ahead&) = delete;
     Ahead& operator=(const Ahead&) = delete;
 
-    // The next result, in order; waits for it. Throws what make() threw.
+    // The next result, in order; waits for it. Throws what make() threw, and
+    // std::logic_error past the count (no result would ever come).
     T next() {
+        if (taken_ >= count_) throw std::logic_error("Ahead: all " + std::to_string(count_) + " results taken");
+        ++taken_;
         std::unique_lock lock(mutex_);
         changed_.wait(lock, [&] { return !ready_.empty() || error_ != nullptr; });
         if (ready_.empty()) std::rethrow_exception(error_);
@@ -74,6 +81,8 @@ private:
         }
     }
 
+    const int count_;
+    int taken_ = 0;  // by next(), on the caller's thread
     const std::size_t depth_;
     std::mutex mutex_;
     std::condition_variable changed_;

@@ -392,8 +392,9 @@ private:
     int broken_at_ = -1;    // the frame whose write failed
 };
 
-// The frames of one video, in order: physics up to each frame's time, the
-// tiles drawn, the frame assembled and handed to the encoder. With one tile,
+// The frames of one video, in order: physics up to each frame's time and the
+// tiles' draw lists (on a thread of their own, a few frames ahead), the tiles
+// drawn, the frame assembled and handed to the encoder. With one tile,
 // frame k is drawn and its read queued, then frame k - 1 (drawn meanwhile by
 // the renderer's threads) is taken and encoded; a grid of tiles reads each
 // tile as it is drawn (the renderer redraws for each).
@@ -415,7 +416,9 @@ public:
     VideoStats run() {
         const bool behind = grid_.n == 1;
         {
-            // The scenes step on a thread of their own, a frame or two ahead.
+            // The scenes step on a thread of their own: two frames' lists
+            // waiting (and a third being made) cover a frame whose physics
+            // takes longer than the next one's drawing, without holding more.
             Ahead<Scenes> ahead(
                 frames_, 2, [] { sim::prepare_rigid_thread(); }, [this](int k) { return advance(k); });
             for (int k = 0; k < frames_; ++k) {
@@ -445,19 +448,18 @@ private:
     // What frame k shows: each tile's draw list, its texts added.
     struct Scenes {
         std::vector<render::DrawList> lists;
-        double physics = 0.0, lists_seconds = 0.0;  // s, stepping and building the lists
+        double physics = 0.0;  // s, stepping and building the lists
     };
 
     // Frame k's physics and draw lists (on the stepping thread).
     Scenes advance(int k) {
         const double t = static_cast<double>(k) / options_.fps;  // s, what this frame shows
-        const auto p0 = Clock::now();
+        const auto start = Clock::now();
         for (auto& run : runs_) {
             const double dt = run->step().dt;
             while (run->time() + dt <= t + 1e-9 && run->advance()) {
             }
         }
-        const auto p1 = Clock::now();
         Scenes scenes;
         for (const auto& run : runs_) scenes.lists.push_back(run->draw_list(grid_.tile_w, grid_.tile_h));
         share_plot_ranges(scenes.lists);
@@ -465,8 +467,7 @@ private:
             texts_.add(scenes.lists[static_cast<std::size_t>(i)], options_, static_cast<std::size_t>(i), grid_.tile_h,
                        t);
         }
-        scenes.physics = std::chrono::duration<double>(p1 - p0).count();
-        scenes.lists_seconds = std::chrono::duration<double>(Clock::now() - p1).count();
+        scenes.physics = std::chrono::duration<double>(Clock::now() - start).count();
         return scenes;
     }
 
@@ -485,7 +486,7 @@ private:
             if (options_.verbose) add_passes(passes_, renderer_.last_frame().passes);
         }
         physics_ += scenes.physics;
-        render_ += scenes.lists_seconds + std::chrono::duration<double>(Clock::now() - start).count();
+        render_ += std::chrono::duration<double>(Clock::now() - start).count();
     }
 
     // The oldest queued frame (the one tile), into the frame and to the encoder as frame k.

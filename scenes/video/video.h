@@ -25,14 +25,17 @@ struct VideoOptions {
     bool progress = false;             // a progress bar with frames/s and ETA on stderr
     bool caption = true;               // the scene's description across the bottom for the first seconds
     bool verbose = false;              // time each frame pass by pass (VideoStats::passes; a little slower)
-    // The GL backend; none: render::fastest_backend() (a GPU where EGL finds one, else llvmpipe).
+    // The GL backend; none: render::create_fastest_context() (a GPU where EGL finds one that works, else llvmpipe).
     std::optional<render::Backend> backend;
 };
 
 struct VideoStats {
     int frames = 0;
-    double render_ms = 0.0;              // per frame, all tiles
-    double physics_ms = 0.0;             // per frame, all tiles
+    // Per frame, all tiles: drawing and reading back (the calling thread), and
+    // stepping and building the draw lists (the stepping thread). The two
+    // overlap: a frame takes about the larger, not their sum.
+    double render_ms = 0.0;
+    double physics_ms = 0.0;
     double seconds = 0.0;                // wall time of the whole video
     int last_frame = 0;                  // the scene frame the video ends on
     int diverged_frame = -1;             // a recording's: the first frame whose state differs from it; -1: none

@@ -24,6 +24,7 @@ TEST(Ahead, HandsOverEveryResultInOrderOnItsOwnThread) {
             return k * k;
         });
     for (int k = 0; k < 100; ++k) EXPECT_EQ(ahead.next(), k * k);
+    EXPECT_THROW(ahead.next(), std::logic_error) << "a result past the count";
     EXPECT_TRUE(started);
     EXPECT_TRUE(elsewhere) << "make() ran on the caller's thread";
 }
