@@ -51,10 +51,11 @@ int check(const CheckArgs& a) {
         throw sim::InputError(
             "--update with --set would bless a scene that is not the one in its file: drop one of them");
     }
+    // The backend, decided once (auto lists the EGL devices); physics alone draws nothing.
+    const render::Backend backend = a.physics_only ? render::default_backend() : parse_backend(a.backend);
     // The shipped goldens are llvmpipe's: a GPU's frame is judged against
     // them with another renderer's tolerance, never written as one of them.
-    if (o.update != UpdateMode::none && a.golden.empty() && !a.physics_only &&
-        parse_backend(a.backend) == render::Backend::gpu) {
+    if (o.update != UpdateMode::none && a.golden.empty() && !a.physics_only && backend == render::Backend::gpu) {
         throw sim::InputError("--update with --backend " + a.backend +
                               " would bless a GPU's frames: the shipped goldens are llvmpipe's (" +
                               std::string(render::backend_name(render::default_backend())) +
@@ -80,7 +81,7 @@ int check(const CheckArgs& a) {
     if (a.physics_only) {
         results = check_physics(names, overrides, o);
     } else {
-        const auto context = render::create_context({.backend = parse_backend(a.backend)});
+        const auto context = render::create_context({.backend = backend});
         render::Renderer renderer(*context);
         results = check_scenes(names, overrides, o, renderer, context->fingerprint());
     }
