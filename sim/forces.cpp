@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <type_traits>
 
 namespace sim {
 
@@ -70,7 +71,7 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
     if (others_.size() == 1) {
         central_only_ = std::get_if<CentralGravity>(others_[0]);
         const auto* springs = std::get_if<Springs>(others_[0]);
-        if (springs != nullptr && plans_[0].few) few_springs_ = springs;
+        if (springs != nullptr && plans_[0].few) few_ = {springs, has_field_ ? &field_ : nullptr};
     }
 }
 
@@ -85,7 +86,7 @@ ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Spa
 
 namespace {
 
-constexpr std::size_t kFew = 4;  // particles: fewer go one at a time, at the pinned width
+constexpr std::size_t kFew = kFewSpringParticles;  // particles: fewer go one at a time, at the pinned width
 
 // The field loop, compiled once per case so that neither the square root of
 // quadratic drag nor the inverse-mass multiply costs anything when unused.
@@ -168,6 +169,49 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
     }
 }
 
+// a = M⁻¹ f(x, v) for a FewSprings force on the particles [first, first +
+// x.n), x.n <= kFewSpringParticles (mass and inv_mass: the block's): the field's force (or 0), then the
+// springs in list order (accumulate's reference loop), then M⁻¹, one
+// particle at a time: the general path's operations on each particle.
+[[gnu::always_inline]] inline void few_spring_acceleration(const FewSprings& few, double t, std::size_t first,
+                                                           const ConstVec3Span& x, const ConstVec3Span& v,
+                                                           const double* mass, const double* inv_mass,
+                                                           const Vec3Span& a) {
+    const std::size_t n = x.n;
+    double* a0 = a.c[0];
+    double* a1 = a.c[1];
+    double* a2 = a.c[2];
+    // One value at a time, the loops unrolled to kFewSpringParticles: memset's
+    // or a vector loop's wide stores cannot be forwarded to the scalar loads
+    // of the spring loop, which then waits for them to retire.
+    if (few.field == nullptr) {
+#pragma GCC unroll 4
+        for (std::size_t i = 0; i < kFewSpringParticles; ++i) {
+            if (i < n) a0[i] = a1[i] = a2[i] = 0.0;
+        }
+    } else {
+        const UniformField& g = *few.field;
+        auto field = [&](auto quadratic) {
+#pragma GCC unroll 4
+            for (std::size_t i = 0; i < kFewSpringParticles; ++i) {
+                if (i >= n) break;
+                const FieldForce f = field_force<decltype(quadratic)::value>(mass[i], v.c[0][i], v.c[1][i], v.c[2][i],
+                                                                             g.g.x(), g.g.y(), g.g.z(), g.c, g.c2);
+                a0[i] = f.x, a1[i] = f.y, a2[i] = f.z;
+            }
+        };
+        g.c2 != 0.0 ? field(std::true_type{}) : field(std::false_type{});
+    }
+    accumulate(*few.springs, ForceInput{t, first, x, v, mass, inv_mass}, a);
+#pragma GCC unroll 4
+    for (std::size_t i = 0; i < kFewSpringParticles; ++i) {
+        if (i >= n) break;
+        a0[i] *= inv_mass[i];
+        a1[i] *= inv_mass[i];
+        a2[i] *= inv_mass[i];
+    }
+}
+
 }  // namespace
 
 void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned) const {
@@ -213,28 +257,16 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
     to_acceleration(*central_only_, in, a, !has_field_, wide_);
 }
 
-// One particle on one spring (the report's oscillators), a few beads on a
-// few springs: on so small a system the general path's dispatch (the
-// generator list, the plan, the spring clock, the widths) costs as much as
-// the force. The same operations on each particle as that path: the field or
-// zero, the reference spring loop, then M⁻¹, one particle at a time.
-[[gnu::always_inline]] inline void ParticleForces::few_spring_acceleration(const ForceInput& in,
-                                                                           const Vec3Span& a) const {
-    if (has_field_) {
-        field_pass(in, a, false);
-    } else {
-        zero(a);
-    }
-    accumulate(*few_springs_, in, a);
-    scale_by_inverse_mass(a.c[0], a.c[1], a.c[2], in.inv_mass, a.n);
-}
-
 void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                                   const Vec3Span& a) {
     const ForceInput in = input(t, first, x, v);
     particle_evaluations_ += x.n;
-    if (few_springs_ != nullptr && x.n <= kFew && spring_time_ == nullptr) {
-        few_spring_acceleration(in, a);
+    // One particle on one spring (the report's oscillators), a few beads on a
+    // few springs: on so small a system the general path's dispatch (the
+    // generator list, the plan, the spring clock, the widths) costs as much
+    // as the force. The same operations on each particle as that path.
+    if (const FewSprings* few = few_springs(x.n)) {
+        few_spring_acceleration(*few, t, first, x, v, mass_->data() + first, inv_mass_->data() + first, a);
         return;
     }
     if (others_.empty() && has_field_) {

@@ -29,12 +29,26 @@ using ForceDef = std::variant<UniformGravity, NewtonGravity, Springs, LinearDrag
 // The name scene files and messages use for a generator ("gravity", "springs", ...).
 const char* force_name(const ForceDef& force);
 
+// ParticleForces' description of a force that is one list of springs, with
+// a uniform field or without, for a block of at most kFewSpringParticles
+// particles: on one bead on one spring the general path's dispatch (the
+// generator list, the plan, the spring clock, the widths) costs as much as
+// the force, and this one is evaluated straight from it.
+inline constexpr std::size_t kFewSpringParticles = 4;
+struct FewSprings {
+    const Springs* springs = nullptr;     // nullptr: the force is not such a list
+    const UniformField* field = nullptr;  // nullptr: none
+};
+
 // Sums a list of generators over a system of particles. Holds pointers to the
 // system's mass arrays and the generator list, which must outlive it.
 class ParticleForces final : public Dynamics {
 public:
     ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                    const std::vector<double>& inv_mass);
+    // few_ points into this object: not copyable or movable.
+    ParticleForces(const ParticleForces&) = delete;
+    ParticleForces& operator=(const ParticleForces&) = delete;
 
     // True when every generator is local, so that a step may run block by block.
     bool all_local() const { return all_local_; }
@@ -76,6 +90,11 @@ public:
     void set_wide(bool wide);
 
 private:
+    // few_ where the block of `particles` is small enough (and the spring
+    // clock off), else nullptr.
+    const FewSprings* few_springs(std::size_t particles) const {
+        return few_.springs != nullptr && particles <= kFewSpringParticles && spring_time_ == nullptr ? &few_ : nullptr;
+    }
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
     void field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const;
@@ -89,8 +108,6 @@ private:
     bool add_forces(const ForceInput& in, const Vec3Span& f, bool skip_pinned, bool to_acceleration) const;
     // a = M⁻¹ (field + central_only_'s force), in one or two passes.
     void central_acceleration(const ForceInput& in, const Vec3Span& a) const;
-    // a = M⁻¹ (field + few_springs_'s force) on a few particles.
-    inline void few_spring_acceleration(const ForceInput& in, const Vec3Span& a) const;  // (defined in forces.cpp)
 
     const std::vector<ForceDef>* forces_;
     // Uniform gravity and drag summed into one field (the sums of every
@@ -110,9 +127,10 @@ private:
     bool velocity_free_ = true;
     const CentralGravity* central_only_ = nullptr;  // the one generator outside the field, if a CentralGravity
     // The one generator outside the field, if a Springs of a few springs (the
-    // reference loop's): on a few particles its acceleration goes straight
-    // through it (few_spring_acceleration), without the general dispatch.
-    const Springs* few_springs_ = nullptr;
+    // reference loop's), with the field: on a few particles its
+    // acceleration goes straight through few_spring_acceleration (forces.cpp), without
+    // the general dispatch (few_.springs: nullptr where it is not).
+    FewSprings few_;
     bool springs_last_ = false;  // the last generator outside the field is a planned spring pass
     bool wide_ = false;          // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;

@@ -1,8 +1,9 @@
 // Time integrators for particles: one function each, pure over state arrays
 // and a force evaluation (Dynamics). Choosing one is a row of kIntegrators.
 //
-// Adding an integrator: write its step function in integrators.cpp (its
-// comment gives the update equations and the order), add its enumerator and
+// Adding an integrator: write its step function in integrators.cpp, or a
+// Runge-Kutta method's tableau in runge_kutta.cpp (its comment gives the
+// update equations and the order), add its enumerator and
 // one row to kIntegrators, and one row to the accuracy tests' table in
 // tests/sim/integrators_accuracy_test.cpp.
 #pragma once

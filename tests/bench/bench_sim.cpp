@@ -22,7 +22,6 @@
 // a figure the machine's speed of the moment does not move.
 #include "bench_world.h"
 #include "sim/cpu.h"
-#include "sim/problems.h"
 #include "sim/world.h"
 
 #include <benchmark/benchmark.h>
@@ -329,8 +328,7 @@ void hand_cloud_bench(benchmark::State& state, sim::Integrator id) {
 // --- the fixed cost ---------------------------------------------------------------------
 
 void fixed_cost(benchmark::State& state, sim::Integrator id) {
-    const sim::analytic::Oscillator o{1.0, 1.0, 0.0};  // kg, N/m, N·s/m: a 2π s period, bounded for ever
-    sim::World world(sim::problems::oscillator_model(o, sim::Vec3(1.0, 0.0, 0.0), sim::Vec3::Zero()));
+    sim::World world(bench::fixed_cost_bead());
     const sim::StepSettings settings{id, kDt, 1};
     for (auto _ : state) {
         world.step(settings);

@@ -3,6 +3,7 @@
 // at once, and a benchmark of it would report picoseconds.
 #pragma once
 
+#include "sim/problems.h"
 #include "sim/world.h"
 
 #include <benchmark/benchmark.h>
@@ -28,6 +29,15 @@ inline bool still_running(benchmark::State& state, const sim::World& world, std:
         return false;
     }
     return true;
+}
+
+// The fixed-cost bead (issue 17): one 1 kg particle on a zero-length spring
+// of 1 N/m to a pinned anchor, released 1 m out at rest, bounded for ever (a
+// 2π s period, 0.5 J). FixedCost times its step; step_cost counts its
+// instructions.
+inline sim::ParticleModel fixed_cost_bead() {
+    const sim::analytic::Oscillator o{1.0, 1.0, 0.0};  // kg, N/m, N·s/m
+    return sim::problems::oscillator_model(o, sim::Vec3(1.0, 0.0, 0.0), sim::Vec3::Zero());
 }
 
 }  // namespace bench

@@ -5,12 +5,15 @@
 #include "sim/cpu.h"
 #include "sim/forces.h"
 #include "sim/problems.h"
+#include "sim/world.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -172,6 +175,57 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
     const std::vector<ForceDef> with_damper = {damped}, with_drag = {UniformGravity{}, LinearDrag{0.1}};
     EXPECT_FALSE(ParticleForces(with_damper, mass, inv_mass).velocity_free());
     EXPECT_FALSE(ParticleForces(with_drag, mass, inv_mass).velocity_free());
+}
+
+// A few particles (at most StepArrays::kFewParticles) take their own paths:
+// RK4's stages on the stack, and the force of one spring list (with a field
+// or not) on at most kFewSpringParticles evaluated straight. The same
+// particles inside a larger system (their springs first, then others among
+// 20 more particles that never touch them) take the array paths: each of the
+// few must end with the same bits, for every explicit method, with and
+// without a field, dampers and quadratic drag.
+ParticleModel few_beads(std::size_t extra, bool field) {
+    ParticleModel model;
+    model.particles = {{Vec3::Zero(), Vec3::Zero(), 1.0, true},
+                       {Vec3(1.0, 0.2, 0.0), Vec3(0.0, 0.5, 0.1), 1.0, false},
+                       {Vec3(1.5, -0.4, 0.3), Vec3(0.2, 0.0, -0.3), 0.7, false}};
+    Springs springs;
+    springs.list = {{0, 1, 0.0, 4.0, 0.0}, {1, 2, 0.6, 9.0, 0.3}};
+    for (std::size_t i = 0; i < extra; ++i) {
+        const double s = static_cast<double>(i);
+        model.particles.push_back(
+            {Vec3(5.0 + 0.4 * s, std::sin(s), 0.1 * s), Vec3(std::cos(s), 0.3, 0.0), 0.5, i == 0});
+        if (i > 0)
+            springs.list.push_back(
+                {static_cast<std::uint32_t>(2 + i), static_cast<std::uint32_t>(3 + i), 0.4, 6.0, 0.1});
+    }
+    model.forces.push_back(std::move(springs));
+    if (field) model.forces.insert(model.forces.begin(), {UniformGravity{}, LinearDrag{0.05}, QuadraticDrag{0.01}});
+    return model;
+}
+
+TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
+    for (const IntegratorInfo& info : kIntegrators) {
+        if (info.needs_jacobians) continue;
+        for (const bool field : {false, true}) {
+            SCOPED_TRACE(std::string(info.name) + (field ? ", gravity and drag" : ", springs alone"));
+            World few(few_beads(0, field)), many(few_beads(20, field));
+            ASSERT_LE(few.state().size(), kFewSpringParticles);
+            ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
+            for (int i = 0; i < 120; ++i) {
+                few.step({info.id, 1.0 / 60.0, 2});
+                many.step({info.id, 1.0 / 60.0, 2});
+            }
+            ASSERT_FALSE(few.verdict().exploded()) << few.verdict().message("few");
+            for (std::size_t i = 0; i < few.state().size(); ++i) {
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_EQ(few.state().x.get(i)[k], many.state().x.get(i)[k]) << "particle " << i << " axis " << k;
+                    EXPECT_EQ(few.state().v.get(i)[k], many.state().v.get(i)[k]) << "particle " << i << " axis " << k;
+                }
+            }
+            EXPECT_NE(few.state().x.get(2), few.model().particles[2].position) << "it moved";
+        }
+    }
 }
 
 }  // namespace

@@ -1,0 +1,287 @@
+// Explicit Runge-Kutta from a Butcher tableau: RK4. Three paths with the
+// same arithmetic, so the same bits (tested): the fused pass for a uniform
+// field (fused_pass.h), the array path (one pass per stage over the
+// particles, component by component, any force), and a few particles' path
+// (the stages on the stack). Notation as in integrators.cpp.
+#include "sim/fused_pass.h"
+#include "sim/integrators.h"
+
+#include <cstddef>
+#include <iterator>
+#include <utility>
+
+namespace sim {
+
+namespace {
+
+using fused::fused_field_pass;
+using fused::P3;
+
+// An explicit method's Butcher tableau: stage i evaluates the derivative at
+// t + c_i h and y + h Σ_{j<i} a_ij k_j; the step is y' = y + h Σ b_i k_i.
+template <std::size_t S>
+struct ButcherTableau {
+    double a[S][S];
+    double b[S];
+    double c[S];
+};
+
+// Classic RK4 (Kutta 1901), order 4.
+constexpr ButcherTableau<4> kClassicRk4{
+    {{0.0, 0.0, 0.0, 0.0}, {0.5, 0.0, 0.0, 0.0}, {0.0, 0.5, 0.0, 0.0}, {0.0, 0.0, 1.0, 0.0}},
+    {1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0},
+    {0.0, 0.5, 0.5, 1.0},
+};
+
+// The fused pass's per-particle Runge-Kutta step for a uniform field (which
+// does not depend on x, so X_i is not formed). The tableau is a template
+// argument and the stages are expanded at compile time (fold expressions, i
+// and j ascending), so that the stages stay in registers and the loop has no
+// branch: V_i = v + Σ_j (h a_ij) A_j over the non-zero a_ij.
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+inline P3 stage_velocity(P3 v, const P3* stage_a, [[maybe_unused]] double h, std::index_sequence<J...>) {
+    ((kTableau.a[I][J] != 0.0 ? void(v = v + (h * kTableau.a[I][J]) * stage_a[J]) : void()), ...);
+    return v;
+}
+
+template <const auto& kTableau, class Accel, std::size_t... I>
+inline void field_runge_kutta(P3& x, P3& v, const Accel& accel, double h, std::index_sequence<I...>) {
+    P3 stage_v[sizeof...(I)], stage_a[sizeof...(I)];
+    ((stage_v[I] = stage_velocity<kTableau, I>(v, stage_a, h, std::make_index_sequence<I>{}),
+      stage_a[I] = accel(stage_v[I])),
+     ...);
+    ((x = x + (h * kTableau.b[I]) * stage_v[I]), ...);
+    ((v = v + (h * kTableau.b[I]) * stage_a[I]), ...);
+}
+
+// The array path's stage I: X_I = x + Σ_J (h a_IJ) V_J and V_I = v + Σ_J
+// (h a_IJ) A_J over the non-zero a_IJ, J ascending, in one pass over the
+// particles per component. The arrays' pointers are held in locals (read
+// through the spans, they are reloaded every iteration: most of a
+// few-particle stage, and the loop is not vectorised); ivdep: the stage
+// arrays never overlap x or v (scratch, or v itself for a stage that is the
+// state, only read).
+#if defined(__clang__)
+#define PLAUSIBLE_IVDEP _Pragma("clang loop vectorize(assume_safety)")
+#else
+#define PLAUSIBLE_IVDEP _Pragma("GCC ivdep")
+#endif
+
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+void array_stage(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a,
+                 [[maybe_unused]] double h, std::index_sequence<J...>) {
+    for (int k = 0; k < 3; ++k) {
+        const double* x = s.x.c[k];
+        const double* v = s.v.c[k];
+        double* X = stage_x.c[k];
+        double* V = stage_v[I].c[k];
+        [[maybe_unused]] const double* sv[] = {stage_v[J].c[k]..., nullptr};
+        [[maybe_unused]] const double* sa[] = {stage_a[J].c[k]..., nullptr};
+        PLAUSIBLE_IVDEP
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            double Xp = x[p], Vp = v[p];
+            ((kTableau.a[I][J] != 0.0
+                  ? void((Xp += (h * kTableau.a[I][J]) * sv[J][p], Vp += (h * kTableau.a[I][J]) * sa[J][p]))
+                  : void()),
+             ...);
+            X[p] = Xp;
+            V[p] = Vp;
+        }
+    }
+}
+
+// The step's pass: x' = x + Σ_i (h b_i) V_i, v' = v + Σ_i (h b_i) A_i, i
+// ascending, component by component, pointers in locals as above.
+template <const auto& kTableau>
+void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    constexpr std::size_t S = std::size(kTableau.b);
+    double hb[S];  // h b_i, once
+    for (std::size_t i = 0; i < S; ++i) hb[i] = h * kTableau.b[i];
+    auto sum = [&hb]<std::size_t... I>(double& X, double& V, const double* const* sv, const double* const* sa,
+                                       std::size_t p, std::index_sequence<I...>) {
+        ((X += hb[I] * sv[I][p], V += hb[I] * sa[I][p]), ...);
+    };
+    for (int k = 0; k < 3; ++k) {
+        double* x = s.x.c[k];
+        double* v = s.v.c[k];
+        const double* sv[S];
+        const double* sa[S];
+        for (std::size_t i = 0; i < S; ++i) sv[i] = stage_v[i].c[k], sa[i] = stage_a[i].c[k];
+        PLAUSIBLE_IVDEP
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            double X = x[p], V = v[p];
+            sum(X, V, sv, sa, p, std::make_index_sequence<S>{});
+            x[p] = X, v[p] = V;
+        }
+    }
+}
+#undef PLAUSIBLE_IVDEP
+
+// Stage I's pass and the step's, at the block's width. The lambdas take
+// their data as arguments, not captures: read through a closure, the loops
+// are not vectorised. A few particles (StepArrays::kFewParticles) go straight
+// to the pinned build: on one bead on one spring the call through
+// run_at_width cost more than the arithmetic; the step pass then applies the
+// watchdog's per-particle rules to them (s.watch), so that the World needs no
+// pass of its own.
+template <const auto& kTableau, std::size_t I>
+void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    if (s.x.n <= StepArrays::kFewParticles) {
+        array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{});
+        return;
+    }
+    run_at_width(
+        s.wide_loops(),
+        [](const StepArrays* block, Vec3Span x, const Vec3Span* v, const Vec3Span* a, double step) {
+            array_stage<kTableau, I>(*block, x, v, a, step, std::make_index_sequence<I>{});
+        },
+        &s, stage_x, stage_v, stage_a, h);
+}
+template <const auto& kTableau>
+void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
+    if (s.x.n <= StepArrays::kFewParticles) {
+        step_pass<kTableau>(s, stage_v, stage_a, h);
+        if (s.watch == nullptr) return;
+        for (std::size_t p = 0; p < s.x.n; ++p) {
+            s.watch->suspects += is_suspect(s.x.c[0][p], s.x.c[1][p], s.x.c[2][p], s.v.c[0][p], s.v.c[1][p],
+                                            s.v.c[2][p], s.watch->max_speed2, s.watch->box);
+        }
+        s.watch->counted = true;
+        return;
+    }
+    run_at_width(
+        s.wide_loops(),
+        [](const StepArrays* block, const Vec3Span* v, const Vec3Span* a, double step) {
+            step_pass<kTableau>(*block, v, a, step);
+        },
+        &s, stage_v, stage_a, h);
+}
+
+// Stage i's row of a is all zeros: X_i = x, V_i = v.
+template <const auto& kTableau>
+constexpr bool stage_is_state(std::size_t i) {
+    for (std::size_t j = 0; j < i; ++j) {
+        if (kTableau.a[i][j] != 0.0) return false;
+    }
+    return true;
+}
+
+// A few particles (StepArrays::kFewParticles at most): the stages live on
+// the stack, not in the World's scratch, and each stage (and the step) is one
+// pass over the particles with the three components together, the tableau's
+// coefficients constants: on one bead on one spring the general path's
+// twelve component loops and nine scratch spans cost more than the four
+// force evaluations. Every value gets the same operations in the same order
+// as on the array path (the same bits, tested); the step pass applies the
+// watchdog's per-particle rules (s.watch).
+constexpr std::size_t kFew = StepArrays::kFewParticles;
+using FewArray = double[3][kFew];  // one stage's values, component by component
+
+// Stage I's X_I and V_I (stage J's velocity is the state's where J is).
+template <const auto& kTableau, std::size_t I, std::size_t... J>
+void few_stage(const StepArrays& s, FewArray& X, FewArray* V, const FewArray* A, double h, std::index_sequence<J...>) {
+    for (std::size_t p = 0; p < s.x.n; ++p) {
+        for (int k = 0; k < 3; ++k) {
+            double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
+            ((kTableau.a[I][J] != 0.0
+                  ? void((Xp += (h * kTableau.a[I][J]) * (stage_is_state<kTableau>(J) ? s.v.c[k][p] : V[J][k][p]),
+                          Vp += (h * kTableau.a[I][J]) * A[J][k][p]))
+                  : void()),
+             ...);
+            X[k][p] = Xp;
+            V[I][k][p] = Vp;
+        }
+    }
+}
+
+// The step, x' = x + Σ_i (h b_i) V_i and v' = v + Σ_i (h b_i) A_i, with the
+// watchdog's per-particle rules on each particle it leaves.
+template <const auto& kTableau, std::size_t... I>
+void few_step(const StepArrays& s, const FewArray* V, const FewArray* A, double h, std::index_sequence<I...>) {
+    std::size_t suspects = 0;
+    for (std::size_t p = 0; p < s.x.n; ++p) {
+        double next[2][3];  // x', v'
+        for (int k = 0; k < 3; ++k) {
+            double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
+            ((Xp += (h * kTableau.b[I]) * (stage_is_state<kTableau>(I) ? s.v.c[k][p] : V[I][k][p]),
+              Vp += (h * kTableau.b[I]) * A[I][k][p]),
+             ...);
+            s.x.c[k][p] = next[0][k] = Xp;
+            s.v.c[k][p] = next[1][k] = Vp;
+        }
+        if (s.watch != nullptr) {
+            suspects += is_suspect(next[0][0], next[0][1], next[0][2], next[1][0], next[1][1], next[1][2],
+                                   s.watch->max_speed2, s.watch->box);
+        }
+    }
+    if (s.watch != nullptr) s.watch->suspects += suspects, s.watch->counted = true;
+}
+
+template <const auto& kTableau, std::size_t... I>
+void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h, std::index_sequence<I...>) {
+    constexpr std::size_t S = sizeof...(I);
+    FewArray X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
+    const std::size_t n = s.x.n;
+    auto span = [n](FewArray& c) { return Vec3Span(c[0], c[1], c[2], n); };
+    auto read = [n](const FewArray& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
+    auto stage = [&](auto i_constant) {
+        constexpr std::size_t i = decltype(i_constant)::value;
+        if constexpr (stage_is_state<kTableau>(i)) {
+            dynamics.acceleration(t + kTableau.c[i] * h, s.first, s.x, s.v, span(A[i]));
+        } else {
+            few_stage<kTableau, i>(s, X, V, A, h, std::make_index_sequence<i>{});
+            dynamics.acceleration(t + kTableau.c[i] * h, s.first, read(X), read(V[i]), span(A[i]));
+        }
+    };
+    (stage(std::integral_constant<std::size_t, I>{}), ...);
+    few_step<kTableau>(s, V, A, h, std::index_sequence<I...>{});
+}
+
+// For y = (x, v) and y' = (v, a(t, x, v)), stage i is
+//   X_i = x + h Σ_j a_ij V_j,   V_i = v + h Σ_j a_ij A_j,   A_i = a(t + c_i h, X_i, V_i)
+// and the step x' = x + h Σ b_i V_i, v' = v + h Σ b_i A_i. Sums run in j
+// (and i) order, skipping zero coefficients, on both paths.
+// Scratch: X (1 array), V_i (S arrays), A_i (S arrays).
+template <const auto& kTableau>
+void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    constexpr std::size_t S = std::size(kTableau.b);
+    static_assert(2 * S + 1 <= kMaxScratch);
+    auto rule = [h](P3& x, P3& v, P3&, const auto& accel, auto) {
+        field_runge_kutta<kTableau>(x, v, accel, h, std::make_index_sequence<S>{});
+    };
+    if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
+    if (s.x.n <= StepArrays::kFewParticles) {
+        few_runge_kutta<kTableau>(dynamics, s, t, h, std::make_index_sequence<S>{});
+        return;
+    }
+    const Vec3Span stage_x = s.scratch(0);
+    Vec3Span stage_v[S];
+    Vec3Span stage_a[S];
+    for (std::size_t i = 0; i < S; ++i) {
+        // A stage whose row of a is all zeros (the first) is the state itself:
+        // it is read where it is, not copied (a shorter chain of stores and
+        // loads, most of a few-particle step).
+        stage_v[i] = stage_is_state<kTableau>(i) ? s.v : s.scratch(1 + i);
+        stage_a[i] = s.scratch(1 + S + i);
+    }
+    // Each stage, then the step, in one pass over the particles (the
+    // tableau's zeros known at compile time).
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+        (((stage_is_state<kTableau>(I) ? void() : run_stage_pass<kTableau, I>(s, stage_x, stage_v, stage_a, h)),
+          dynamics.acceleration(t + kTableau.c[I] * h, s.first, stage_is_state<kTableau>(I) ? s.x : stage_x, stage_v[I],
+                                stage_a[I])),
+         ...);
+    }
+    (std::make_index_sequence<S>{});
+    run_step_pass<kTableau>(s, stage_v, stage_a, h);
+}
+
+}  // namespace
+
+// Classic RK4, order 4: four force evaluations per step at t, t + h/2,
+// t + h/2, t + h; the accuracy reference (tableau kClassicRk4 above).
+void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    explicit_runge_kutta<kClassicRk4>(dynamics, s, t, h);
+}
+
+}  // namespace sim
