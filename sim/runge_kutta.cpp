@@ -3,8 +3,11 @@
 // field (fused_pass.h), the array path (one pass per stage over the
 // particles, component by component, any force), and a few particles' path
 // (the stages on the stack). Notation as in integrators.cpp.
-#include "sim/fused_pass.h"
 #include "sim/integrators.h"
+
+#include "sim/cpu.h"
+#include "sim/fused_pass.h"
+#include "sim/watchdog.h"
 
 #include <cstddef>
 #include <iterator>
