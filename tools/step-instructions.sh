@@ -22,6 +22,7 @@ if ! command -v valgrind > /dev/null; then
     exit 2
 fi
 step_cost=$1
+case $step_cost in */*) ;; *) step_cost=./$step_cost ;; esac  # valgrind searches PATH for a bare name
 shift
 [ $# -gt 0 ] || set -- symplectic_euler velocity_verlet rk4
 steps=${STEPS:-100000}
@@ -39,6 +40,10 @@ count() {
 for method in "$@"; do
     one=$(count "$method" "$steps")
     two=$(count "$method" $((2 * steps)))
+    if [ -z "$one" ] || [ -z "$two" ]; then
+        echo "$0: callgrind wrote no instruction summary for $method" >&2
+        exit 1
+    fi
     awk -v a="$one" -v b="$two" -v n="$steps" -v m="$method" \
         'BEGIN { printf "step-instructions: %s, %.0f instructions a step (%d steps)\n", m, (b - a) / n, n }'
 done
