@@ -17,6 +17,7 @@
 #include "sim/wind.h"
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <variant>
 #include <vector>

@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <iterator>
+#include <type_traits>
 #include <utility>
 
 namespace sim {
@@ -120,19 +121,12 @@ void step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* sta
 }
 #undef PLAUSIBLE_IVDEP
 
-// Stage I's pass and the step's, at the block's width. The lambdas take
-// their data as arguments, not captures: read through a closure, the loops
-// are not vectorised. A few particles (StepArrays::kFewParticles) go straight
-// to the pinned build: on one bead on one spring the call through
-// run_at_width cost more than the arithmetic; the step pass then applies the
-// watchdog's per-particle rules to them (s.watch), so that the World needs no
-// pass of its own.
+// Stage I's pass and the step's, at the block's width (more than
+// StepArrays::kFewParticles particles: fewer take few_runge_kutta). The
+// lambdas take their data as arguments, not captures: read through a
+// closure, the loops are not vectorised.
 template <const auto& kTableau, std::size_t I>
 void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
-    if (s.x.n <= StepArrays::kFewParticles) {
-        array_stage<kTableau, I>(s, stage_x, stage_v, stage_a, h, std::make_index_sequence<I>{});
-        return;
-    }
     run_at_width(
         s.wide_loops(),
         [](const StepArrays* block, Vec3Span x, const Vec3Span* v, const Vec3Span* a, double step) {
@@ -142,16 +136,6 @@ void run_stage_pass(const StepArrays& s, Vec3Span stage_x, const Vec3Span* stage
 }
 template <const auto& kTableau>
 void run_step_pass(const StepArrays& s, const Vec3Span* stage_v, const Vec3Span* stage_a, double h) {
-    if (s.x.n <= StepArrays::kFewParticles) {
-        step_pass<kTableau>(s, stage_v, stage_a, h);
-        if (s.watch == nullptr) return;
-        for (std::size_t p = 0; p < s.x.n; ++p) {
-            s.watch->suspects += is_suspect(s.x.c[0][p], s.x.c[1][p], s.x.c[2][p], s.v.c[0][p], s.v.c[1][p],
-                                            s.v.c[2][p], s.watch->max_speed2, s.watch->box);
-        }
-        s.watch->counted = true;
-        return;
-    }
     run_at_width(
         s.wide_loops(),
         [](const StepArrays* block, const Vec3Span* v, const Vec3Span* a, double step) {

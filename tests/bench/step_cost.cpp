@@ -9,6 +9,7 @@
 #include "bench_world.h"
 #include "sim/integrators.h"
 
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -17,8 +18,9 @@
 int main(int argc, char** argv) {
     const std::optional<sim::Integrator> method = argc == 3 ? sim::integrator_from_name(argv[1]) : std::nullopt;
     char* end = nullptr;
+    errno = 0;
     const long long steps = argc == 3 ? std::strtoll(argv[2], &end, 10) : 0;
-    if (!method || end == argv[2] || *end != '\0' || steps < 0) {
+    if (!method || end == argv[2] || *end != '\0' || errno == ERANGE || steps < 0) {
         std::fprintf(stderr, "usage: step_cost METHOD STEPS (METHOD one of %s; STEPS >= 0)\n",
                      sim::integrator_names().c_str());
         return 2;

@@ -183,47 +183,75 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // particles inside a larger system (their springs first, then others among
 // 20 more particles that never touch them) take the array paths: each of the
 // few must end with the same bits, for every explicit method, with and
-// without a field, dampers and quadratic drag.
-ParticleModel few_beads(std::size_t extra, bool field) {
+// without a field (linear drag alone, or with quadratic drag), dampers, and
+// with a chain of more particles and springs than the straight evaluation
+// takes (RK4's stack path with the spring plan's pass).
+enum class FewField { none, linear_drag, quadratic_drag };
+
+ParticleModel few_beads(std::size_t extra, FewField field, std::size_t chain) {
     ParticleModel model;
     model.particles = {{Vec3::Zero(), Vec3::Zero(), 1.0, true},
                        {Vec3(1.0, 0.2, 0.0), Vec3(0.0, 0.5, 0.1), 1.0, false},
                        {Vec3(1.5, -0.4, 0.3), Vec3(0.2, 0.0, -0.3), 0.7, false}};
     Springs springs;
     springs.list = {{0, 1, 0.0, 4.0, 0.0}, {1, 2, 0.6, 9.0, 0.3}};
+    // The chain: each new bead tied to the one before and the one two before.
+    for (std::size_t i = 0; i < chain; ++i) {
+        const double s = static_cast<double>(i);
+        const auto bead = static_cast<std::uint32_t>(3 + i);
+        model.particles.push_back(
+            {Vec3(2.0 + 0.5 * s, 0.3 * std::cos(s), -0.2 * s), Vec3(0.1, -0.2 * s, 0.05), 0.8, false});
+        springs.list.push_back({bead - 1, bead, 0.5, 7.0, 0.2});
+        springs.list.push_back({bead - 2, bead, 1.0, 3.0, 0.0});
+    }
+    const std::size_t few = model.particles.size();
     for (std::size_t i = 0; i < extra; ++i) {
         const double s = static_cast<double>(i);
         model.particles.push_back(
             {Vec3(5.0 + 0.4 * s, std::sin(s), 0.1 * s), Vec3(std::cos(s), 0.3, 0.0), 0.5, i == 0});
         if (i > 0)
             springs.list.push_back(
-                {static_cast<std::uint32_t>(2 + i), static_cast<std::uint32_t>(3 + i), 0.4, 6.0, 0.1});
+                {static_cast<std::uint32_t>(few + i - 1), static_cast<std::uint32_t>(few + i), 0.4, 6.0, 0.1});
     }
     model.forces.push_back(std::move(springs));
-    if (field) model.forces.insert(model.forces.begin(), {UniformGravity{}, LinearDrag{0.05}, QuadraticDrag{0.01}});
+    if (field == FewField::linear_drag) model.forces.insert(model.forces.begin(), {UniformGravity{}, LinearDrag{0.05}});
+    if (field == FewField::quadratic_drag)
+        model.forces.insert(model.forces.begin(), {UniformGravity{}, LinearDrag{0.05}, QuadraticDrag{0.01}});
     return model;
 }
 
 TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
+    const char* fields[] = {"springs alone", "gravity and linear drag", "gravity, linear and quadratic drag"};
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
-        for (const bool field : {false, true}) {
-            SCOPED_TRACE(std::string(info.name) + (field ? ", gravity and drag" : ", springs alone"));
-            World few(few_beads(0, field)), many(few_beads(20, field));
-            ASSERT_LE(few.state().size(), kFewSpringParticles);
-            ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
-            for (int i = 0; i < 120; ++i) {
-                few.step({info.id, 1.0 / 60.0, 2});
-                many.step({info.id, 1.0 / 60.0, 2});
-            }
-            ASSERT_FALSE(few.verdict().exploded()) << few.verdict().message("few");
-            for (std::size_t i = 0; i < few.state().size(); ++i) {
-                for (int k = 0; k < 3; ++k) {
-                    EXPECT_EQ(few.state().x.get(i)[k], many.state().x.get(i)[k]) << "particle " << i << " axis " << k;
-                    EXPECT_EQ(few.state().v.get(i)[k], many.state().v.get(i)[k]) << "particle " << i << " axis " << k;
+        for (const FewField field : {FewField::none, FewField::linear_drag, FewField::quadratic_drag}) {
+            for (const std::size_t chain : {std::size_t{0}, std::size_t{7}}) {
+                SCOPED_TRACE(std::string(info.name) + ", " + fields[static_cast<int>(field)] + ", chain of " +
+                             std::to_string(chain));
+                World few(few_beads(0, field, chain)), many(few_beads(20, field, chain));
+                if (chain == 0) {
+                    ASSERT_LE(few.state().size(), kFewSpringParticles);
+                } else {
+                    ASSERT_GT(few.state().size(), kFewSpringParticles);
                 }
+                ASSERT_LE(few.state().size(), StepArrays::kFewParticles);
+                ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
+                for (int i = 0; i < 120; ++i) {
+                    few.step({info.id, 1.0 / 60.0, 2});
+                    many.step({info.id, 1.0 / 60.0, 2});
+                }
+                ASSERT_FALSE(few.verdict().exploded()) << few.verdict().message("few");
+                EXPECT_EQ(few.verdict().exploded(), many.verdict().exploded());
+                for (std::size_t i = 0; i < few.state().size(); ++i) {
+                    for (int k = 0; k < 3; ++k) {
+                        EXPECT_EQ(few.state().x.get(i)[k], many.state().x.get(i)[k])
+                            << "particle " << i << " axis " << k;
+                        EXPECT_EQ(few.state().v.get(i)[k], many.state().v.get(i)[k])
+                            << "particle " << i << " axis " << k;
+                    }
+                }
+                EXPECT_NE(few.state().x.get(2), few.model().particles[2].position) << "it moved";
             }
-            EXPECT_NE(few.state().x.get(2), few.model().particles[2].position) << "it moved";
         }
     }
 }
