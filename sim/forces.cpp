@@ -173,11 +173,12 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 // x.n), x.n <= kFewSpringParticles (mass and inv_mass: the block's): the field's force (or 0), then the
 // springs in list order (accumulate's reference loop), then M⁻¹, one
 // particle at a time: the general path's operations on each particle.
+template <std::size_t kN>
 [[gnu::always_inline]] inline void few_spring_acceleration(const FewSprings& few, double t, std::size_t first,
                                                            const ConstVec3Span& x, const ConstVec3Span& v,
                                                            const double* mass, const double* inv_mass,
                                                            const Vec3Span& a) {
-    const std::size_t n = x.n;
+    const std::size_t n = kN > 0 ? kN : x.n;
     double* a0 = a.c[0];
     double* a1 = a.c[1];
     double* a2 = a.c[2];
@@ -259,16 +260,25 @@ void ParticleForces::sum_forces(const ForceInput& in, const Vec3Span& f, bool sk
 
 void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v,
                                   const Vec3Span& a) {
-    const ForceInput in = input(t, first, x, v);
     particle_evaluations_ += x.n;
     // One particle on one spring (the report's oscillators), a few beads on a
     // few springs: on so small a system the general path's dispatch (the
     // generator list, the plan, the spring clock, the widths) costs as much
     // as the force. The same operations on each particle as that path.
     if (const FewSprings* few = few_springs(x.n)) {
-        few_spring_acceleration(*few, t, first, x, v, mass_->data() + first, inv_mass_->data() + first, a);
+        const double* mass = mass_->data() + first;
+        const double* inv_mass = inv_mass_->data() + first;
+        if (x.n == 2) {
+            few_spring_acceleration<2>(*few, t, first, x, v, mass, inv_mass, a);
+        } else {
+            few_spring_acceleration<0>(*few, t, first, x, v, mass, inv_mass, a);
+        }
         return;
     }
+    general_acceleration(input(t, first, x, v), a);
+}
+
+[[gnu::noinline]] void ParticleForces::general_acceleration(const ForceInput& in, const Vec3Span& a) const {
     if (others_.empty() && has_field_) {
         field_pass(in, a, true);  // one pass: force and M⁻¹ together
         return;

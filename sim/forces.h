@@ -97,6 +97,9 @@ private:
         return few_.springs != nullptr && particles <= kFewSpringParticles && spring_time_ == nullptr ? &few_ : nullptr;
     }
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
+    // acceleration() on every path but the few springs' (out of line, so that
+    // the few springs' call saves and restores no more registers than it uses).
+    void general_acceleration(const ForceInput& in, const Vec3Span& a) const;
     // f = field force (+ inverse mass applied when `to_acceleration`).
     void field_pass(const ForceInput& in, const Vec3Span& out, bool to_acceleration) const;
     // f = every generator's force; skip_pinned: pinned particles' sums may be

@@ -165,9 +165,10 @@ constexpr std::size_t kFew = StepArrays::kFewParticles;
 using FewArray = double[3][kFew];  // one stage's values, component by component
 
 // Stage I's X_I and V_I (stage J's velocity is the state's where J is).
-template <const auto& kTableau, std::size_t I, std::size_t... J>
+template <const auto& kTableau, std::size_t kN, std::size_t I, std::size_t... J>
 void few_stage(const StepArrays& s, FewArray& X, FewArray* V, const FewArray* A, double h, std::index_sequence<J...>) {
-    for (std::size_t p = 0; p < s.x.n; ++p) {
+    const std::size_t n = kN > 0 ? kN : s.x.n;
+    for (std::size_t p = 0; p < n; ++p) {
         for (int k = 0; k < 3; ++k) {
             double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
             ((kTableau.a[I][J] != 0.0
@@ -183,10 +184,11 @@ void few_stage(const StepArrays& s, FewArray& X, FewArray* V, const FewArray* A,
 
 // The step, x' = x + Σ_i (h b_i) V_i and v' = v + Σ_i (h b_i) A_i, with the
 // watchdog's per-particle rules on each particle it leaves.
-template <const auto& kTableau, std::size_t... I>
+template <const auto& kTableau, std::size_t kN, std::size_t... I>
 void few_step(const StepArrays& s, const FewArray* V, const FewArray* A, double h, std::index_sequence<I...>) {
     std::size_t suspects = 0;
-    for (std::size_t p = 0; p < s.x.n; ++p) {
+    const std::size_t n = kN > 0 ? kN : s.x.n;
+    for (std::size_t p = 0; p < n; ++p) {
         double next[2][3];  // x', v'
         for (int k = 0; k < 3; ++k) {
             double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
@@ -204,11 +206,11 @@ void few_step(const StepArrays& s, const FewArray* V, const FewArray* A, double 
     if (s.watch != nullptr) s.watch->suspects += suspects, s.watch->counted = true;
 }
 
-template <const auto& kTableau, std::size_t... I>
+template <const auto& kTableau, std::size_t kN, std::size_t... I>
 void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h, std::index_sequence<I...>) {
     constexpr std::size_t S = sizeof...(I);
     FewArray X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
-    const std::size_t n = s.x.n;
+    const std::size_t n = kN > 0 ? kN : s.x.n;
     auto span = [n](FewArray& c) { return Vec3Span(c[0], c[1], c[2], n); };
     auto read = [n](const FewArray& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
     auto stage = [&](auto i_constant) {
@@ -216,12 +218,12 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
         if constexpr (stage_is_state<kTableau>(i)) {
             dynamics.acceleration(t + kTableau.c[i] * h, s.first, s.x, s.v, span(A[i]));
         } else {
-            few_stage<kTableau, i>(s, X, V, A, h, std::make_index_sequence<i>{});
+            few_stage<kTableau, kN, i>(s, X, V, A, h, std::make_index_sequence<i>{});
             dynamics.acceleration(t + kTableau.c[i] * h, s.first, read(X), read(V[i]), span(A[i]));
         }
     };
     (stage(std::integral_constant<std::size_t, I>{}), ...);
-    few_step<kTableau>(s, V, A, h, std::index_sequence<I...>{});
+    few_step<kTableau, kN>(s, V, A, h, std::index_sequence<I...>{});
 }
 
 // For y = (x, v) and y' = (v, a(t, x, v)), stage i is
@@ -238,8 +240,17 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     };
     if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
     if (s.x.n <= StepArrays::kFewParticles) {
-        few_runge_kutta<kTableau>(dynamics, s, t, h, std::make_index_sequence<S>{});
-        return;
+        switch (s.x.n) {
+            case 1:
+                few_runge_kutta<kTableau, 1>(dynamics, s, t, h, std::make_index_sequence<S>{});
+                return;
+            case 2:
+                few_runge_kutta<kTableau, 2>(dynamics, s, t, h, std::make_index_sequence<S>{});
+                return;
+            default:
+                few_runge_kutta<kTableau, 0>(dynamics, s, t, h, std::make_index_sequence<S>{});
+                return;
+        }
     }
     const Vec3Span stage_x = s.scratch(0);
     Vec3Span stage_v[S];
