@@ -54,16 +54,44 @@ Vec3 spring_force(const Spring& s, const Vec3& xi, const Vec3& xj, const Vec3& v
 
 void validate(const Springs& springs, std::size_t particle_count);
 constexpr bool is_local(const Springs&) { return false; }
+// spring_force over raw component arrays: the pull g of spring s on its
+// first particle (the second gets -g); false where it has none (ℓ > 0 and
+// the two particles on top of each other). Inline, in the loops below and a
+// few particles' path (sim/forces.cpp): operation for operation
+// spring_force's arithmetic (the same bits). Through Vec3 temporaries the
+// cloth's spring loop lost a fifth of its speed; one division instead of
+// three (d (1 / |d|)) measured no clear gain.
+[[gnu::always_inline]] inline bool spring_pull(const Spring& s, const double* x, const double* y, const double* z,
+                                               const double* vx, const double* vy, const double* vz, double& gx,
+                                               double& gy, double& gz) {
+    const std::uint32_t i = s.i, j = s.j;
+    const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+    if (s.rest == 0.0) {
+        gx = s.k * dx, gy = s.k * dy, gz = s.k * dz;
+        // Only the damper needs the length (see spring_force).
+        const double length = s.c != 0.0 ? std::sqrt(dx * dx + dy * dy + dz * dz) : 0.0;
+        if (length > 0.0) {
+            const double nx = dx / length, ny = dy / length, nz = dz / length;
+            const double damp = s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
+            gx += damp * nx, gy += damp * ny, gz += damp * nz;
+        }
+        return true;
+    }
+    const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
+    if (length == 0.0) return false;
+    const double nx = dx / length, ny = dy / length, nz = dz / length;
+    const double magnitude =
+        s.k * (length - s.rest) + s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
+    gx = magnitude * nx, gy = magnitude * ny, gz = magnitude * nz;
+    return true;
+}
+
 // The reference loop: spring_force for each spring in list order, added to
 // its first particle and subtracted from its second. Inline: on a few
 // springs (one particle on one spring) the call would cost as much as the
-// loop; the planned pass (sim/spring_plan.h) gives its bits on many.
+// loop; the planned pass (sim/spring_plan.h) gives its bits on many. This
+// loop is most of a small cloth's step.
 inline void accumulate(const Springs& springs, const ForceInput& in, const Vec3Span& f) {
-    // spring_force, written out over the raw component arrays: this loop is
-    // most of a cloth step (24k springs on a 64 x 64 cloth), and going
-    // through Vec3 temporaries cost it a fifth of its speed. The arithmetic
-    // is spring_force's, operation for operation (the same bits). One
-    // division instead of three (d (1 / |d|)) measured no clear gain.
     const double* __restrict x = in.x.c[0];
     const double* __restrict y = in.x.c[1];
     const double* __restrict z = in.x.c[2];
@@ -74,28 +102,10 @@ inline void accumulate(const Springs& springs, const ForceInput& in, const Vec3S
     double* __restrict fy = f.c[1];
     double* __restrict fz = f.c[2];
     for (const Spring& s : springs.list) {
-        const std::uint32_t i = s.i, j = s.j;
-        const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
         double gx, gy, gz;
-        if (s.rest == 0.0) {
-            gx = s.k * dx, gy = s.k * dy, gz = s.k * dz;
-            // Only the damper needs the length (see spring_force).
-            const double length = s.c != 0.0 ? std::sqrt(dx * dx + dy * dy + dz * dz) : 0.0;
-            if (length > 0.0) {
-                const double nx = dx / length, ny = dy / length, nz = dz / length;
-                const double damp = s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
-                gx += damp * nx, gy += damp * ny, gz += damp * nz;
-            }
-        } else {
-            const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
-            if (length == 0.0) continue;
-            const double nx = dx / length, ny = dy / length, nz = dz / length;
-            const double magnitude =
-                s.k * (length - s.rest) + s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
-            gx = magnitude * nx, gy = magnitude * ny, gz = magnitude * nz;
-        }
-        fx[i] += gx, fy[i] += gy, fz[i] += gz;
-        fx[j] -= gx, fy[j] -= gy, fz[j] -= gz;
+        if (!spring_pull(s, x, y, z, vx, vy, vz, gx, gy, gz)) continue;
+        fx[s.i] += gx, fy[s.i] += gy, fz[s.i] += gz;
+        fx[s.j] -= gx, fy[s.j] -= gy, fz[s.j] -= gz;
     }
 }
 

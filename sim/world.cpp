@@ -511,37 +511,39 @@ StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, st
             .watch = nullptr};
 }
 
-void World::step_once(Integrator integrator, double h, bool watch_blocks) {
+// One block's step; the suspects the watchdog's per-particle rules found in
+// it (0 unless watch_blocks): inside a fused pass where the method has one,
+// else in a pass of their own, while the block is still in cache.
+std::size_t World::step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks) {
+    StepArrays::Watch watch{watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
+    s.memory_valid = memory_valid_;
+    s.watch = watch_blocks ? &watch : nullptr;
+    info.step(forces_, s, state_.t, h);
+    s.watch = nullptr;  // (a local's address)
+    if (!watch_blocks) return 0;
+    return watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
+}
+
+std::size_t World::step_blocks(const IntegratorInfo& info, double h, bool watch_blocks) {
+    std::size_t suspects = 0;
+    const std::size_t n = state_.size();
+    for (std::size_t first = 0; first < n; first += prepared_.block) {
+        StepArrays s = block_arrays(info, first, std::min(prepared_.block, n - first));
+        suspects += step_block(info, s, h, watch_blocks);
+    }
+    return suspects;
+}
+
+// Inline in run_substeps: on a bead on a spring the call cost a tenth of
+// the step (the blocks of a large system go through step_blocks).
+[[gnu::always_inline]] inline void World::step_once(Integrator integrator, double h, bool watch_blocks) {
     if (memory_integrator_ != integrator || memory_h_ != h) memory_valid_ = false;
     const std::size_t n = state_.size();
     if (prepared_.info == nullptr || prepared_.info->id != integrator || prepared_.n != n) prepare_step(integrator);
     const IntegratorInfo& info = *prepared_.info;
-    // The watchdog's per-particle rules: inside a fused pass where the method
-    // has one, else in a pass of their own, while the block is still in cache.
-    StepArrays::Watch watch;
-    auto count_block = [&](const StepArrays& s) {
-        return watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
-    };
-    std::size_t suspects = 0;
-    if (n > 0 && n <= prepared_.block) {
-        // One block (every small system): its arrays as prepare_step built them.
-        StepArrays& s = prepared_.whole;
-        watch = {watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
-        s.memory_valid = memory_valid_;
-        s.watch = watch_blocks ? &watch : nullptr;
-        info.step(forces_, s, state_.t, h);
-        if (watch_blocks) suspects = count_block(s);
-        s.watch = nullptr;  // (a local's address)
-    } else {
-        for (std::size_t first = 0; first < n; first += prepared_.block) {
-            StepArrays s = block_arrays(info, first, std::min(prepared_.block, n - first));
-            watch = {watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
-            s.memory_valid = memory_valid_;
-            s.watch = watch_blocks ? &watch : nullptr;
-            info.step(forces_, s, state_.t, h);
-            if (watch_blocks) suspects += count_block(s);
-        }
-    }
+    // One block (every small system): its arrays as prepare_step built them.
+    const std::size_t suspects = n > 0 && n <= prepared_.block ? step_block(info, prepared_.whole, h, watch_blocks)
+                                                               : step_blocks(info, h, watch_blocks);
     watched_suspects_ = watch_blocks ? std::optional<std::size_t>(suspects) : std::nullopt;
 
     state_.t += h;

@@ -233,6 +233,9 @@ private:
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     void step_once(Integrator integrator, double h, bool watch_blocks);
+    // step_once's one block (the watchdog's suspects in it), and every block.
+    std::size_t step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks);
+    std::size_t step_blocks(const IntegratorInfo& info, double h, bool watch_blocks);
     // step_once's scratch, memory and (one block) arrays for the method, built
     // again when the method or the particle count changes, the arrays may
     // have moved (edit_state, restore), or the widths changed (set_wide).

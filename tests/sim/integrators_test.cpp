@@ -184,18 +184,20 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // 20 more particles that never touch them) take the array paths: each of the
 // few must end with the same bits, for every explicit method, with and
 // without a field (linear drag alone, or with quadratic drag), dampers, on
-// one bead (the paths' two-particle builds), two, and a chain of more
+// one bead (the paths' two-particle builds; its spring listed from the
+// anchor, or to it with a rest length and a damper), two, and a chain of more
 // particles and springs than the straight evaluation takes (RK4's stack path
 // with the spring plan's pass).
 enum class FewField { none, linear_drag, quadratic_drag };
-enum class FewShape { one_bead, two_beads, chain };
+enum class FewShape { one_bead, one_bead_reversed, two_beads, chain };
 
 ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     ParticleModel model;
     model.particles = {{Vec3::Zero(), Vec3::Zero(), 1.0, true}, {Vec3(1.0, 0.2, 0.0), Vec3(0.0, 0.5, 0.1), 1.0, false}};
     Springs springs;
     springs.list = {{0, 1, 0.0, 4.0, 0.0}};
-    if (shape != FewShape::one_bead) {
+    if (shape == FewShape::one_bead_reversed) springs.list = {{1, 0, 0.6, 9.0, 0.3}};
+    if (shape == FewShape::two_beads || shape == FewShape::chain) {
         model.particles.push_back({Vec3(1.5, -0.4, 0.3), Vec3(0.2, 0.0, -0.3), 0.7, false});
         springs.list.push_back({1, 2, 0.6, 9.0, 0.3});
     }
@@ -227,11 +229,12 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
 
 TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     const char* fields[] = {"springs alone", "gravity and linear drag", "gravity, linear and quadratic drag"};
-    const char* shapes[] = {"one bead", "two beads", "a chain"};
+    const char* shapes[] = {"one bead", "one bead, its spring reversed", "two beads", "a chain"};
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         for (const FewField field : {FewField::none, FewField::linear_drag, FewField::quadratic_drag}) {
-            for (const FewShape shape : {FewShape::one_bead, FewShape::two_beads, FewShape::chain}) {
+            for (const FewShape shape :
+                 {FewShape::one_bead, FewShape::one_bead_reversed, FewShape::two_beads, FewShape::chain}) {
                 SCOPED_TRACE(std::string(info.name) + ", " + fields[static_cast<int>(field)] + ", " +
                              shapes[static_cast<int>(shape)]);
                 World few(few_beads(0, field, shape)), many(few_beads(20, field, shape));
