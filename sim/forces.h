@@ -41,6 +41,14 @@ struct FewSprings {
     const UniformField* field = nullptr;  // nullptr: none
 };
 
+// ParticleForces' description of a force that is Newton's gravity alone,
+// with a uniform field or without: on a system of two particles (a planet
+// around a pinned sun) it is evaluated straight from it, as FewSprings.
+struct PairGravity {
+    const NewtonGravity* gravity = nullptr;  // nullptr: the force is not that
+    const UniformField* field = nullptr;     // nullptr: none
+};
+
 // Sums a list of generators over a system of particles. Holds pointers to the
 // system's mass arrays and the generator list, which must outlive it.
 class ParticleForces final : public Dynamics {
@@ -135,6 +143,9 @@ private:
     // acceleration goes straight through few_spring_acceleration (forces.cpp), without
     // the general dispatch (few_.springs: nullptr where it is not).
     FewSprings few_;
+    // Newton's gravity alone (with the field), for two particles: straight
+    // through pair_gravity_acceleration (pair_gravity_.gravity: nullptr where not).
+    PairGravity pair_gravity_;
     bool springs_last_ = false;  // the last generator outside the field is a planned spring pass
     bool wide_ = false;          // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;
