@@ -350,7 +350,7 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
         }
         return;
     }
-    if (pair_gravity_.gravity != nullptr && x.n == 2 && first == 0) {
+    if (pair_gravity_.gravity != nullptr && x.n == 2) {  // (not local: x is the whole system)
         pair_gravity_acceleration(pair_gravity_, x, v, mass_->data() + first, inv_mass_->data() + first, a);
         return;
     }

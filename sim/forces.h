@@ -55,7 +55,7 @@ class ParticleForces final : public Dynamics {
 public:
     ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                    const std::vector<double>& inv_mass);
-    // few_ points into this object: not copyable or movable.
+    // few_ and pair_gravity_ point into this object: not copyable or movable.
     ParticleForces(const ParticleForces&) = delete;
     ParticleForces& operator=(const ParticleForces&) = delete;
 

@@ -211,8 +211,8 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
     constexpr std::size_t S = sizeof...(I);
     FewArray X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     const std::size_t n = kN > 0 ? kN : s.x.n;
-    auto span = [n](FewArray& c) { return Vec3Span(c[0], c[1], c[2], n); };
-    auto read = [n](const FewArray& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
+    auto span = [&](FewArray& c) { return Vec3Span(c[0], c[1], c[2], n); };
+    auto read = [&](const FewArray& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
     auto stage = [&](auto i_constant) {
         constexpr std::size_t i = decltype(i_constant)::value;
         if constexpr (stage_is_state<kTableau>(i)) {

@@ -232,7 +232,7 @@ private:
     void plan_next_sample();  // after a sampled frame: when to sample again
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
-    void step_once(Integrator integrator, double h, bool watch_blocks);
+    inline void step_once(Integrator integrator, double h, bool watch_blocks);  // defined in world.cpp only
     // step_once's one block (the watchdog's suspects in it), and every block.
     std::size_t step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks);
     std::size_t step_blocks(const IntegratorInfo& info, double h, bool watch_blocks);

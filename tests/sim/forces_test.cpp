@@ -11,7 +11,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -345,42 +347,54 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
 
 // Two particles and one generator between them (a bead on its anchor, a
 // planet around a pinned sun) take their own path in acceleration(), the
-// sums in registers (sim/forces.cpp's pair paths). force_and_jacobians sums
-// the same forces on the general path: times 1/m, the same bits, with no
-// field, with linear drag, and with quadratic drag too; the spring listed
-// from either particle, with a rest length and a damper or neither; gravity
-// softened or not, and two unsoftened particles at one point (no force).
+// sums in registers (sim/forces.cpp's pair paths); two springs on them, the
+// few-spring evaluation's two-particle build. force_and_jacobians sums the
+// same forces on the general path: times 1/m, the same bits (bits, not
+// values: -0 is not +0 here), with no field, with linear drag, and with
+// quadratic drag too; particle 0 pinned, particle 1 pinned, or neither; the
+// spring listed from either particle, with a rest length and a damper or
+// without either, a damper alone; gravity softened or not, and two
+// unsoftened particles at one point (no force).
 TEST(PairPaths, GiveTheGeneralPathsBits) {
-    const std::vector<double> mass = {2.0, 0.3}, inv_mass = {0.0, 1.0 / 0.3};
-    Springs from_anchor, to_anchor;
+    auto bits = [](double value) { return std::bit_cast<std::uint64_t>(value); };
+    const std::vector<double> mass = {2.0, 0.3};
+    const std::vector<std::vector<double>> inverse_masses = {{0.0, 1.0 / 0.3}, {0.5, 0.0}, {0.5, 1.0 / 0.3}};
+    Springs from_anchor, to_anchor, damper_alone, both;
     from_anchor.list = {{0, 1, 0.0, 4.0, 0.0}};
     to_anchor.list = {{1, 0, 0.6, 9.0, 0.3}};
+    damper_alone.list = {{0, 1, 0.0, 5.0, 0.4}};
+    both.list = {from_anchor.list[0], to_anchor.list[0]};
     const std::vector<std::vector<ForceDef>> pair_forces = {
-        {from_anchor}, {to_anchor}, {NewtonGravity{1.5, 0.0}}, {NewtonGravity{1.5, 0.2}}};
+        {from_anchor}, {to_anchor}, {damper_alone}, {both}, {NewtonGravity{1.5, 0.0}}, {NewtonGravity{1.5, 0.2}}};
     const std::vector<std::vector<ForceDef>> fields = {
         {}, {UniformGravity{}, LinearDrag{0.05}}, {UniformGravity{}, LinearDrag{0.05}, QuadraticDrag{0.01}}};
     Random random(5);
     for (std::size_t g = 0; g < pair_forces.size(); ++g) {
         for (std::size_t f = 0; f < fields.size(); ++f) {
-            std::vector<ForceDef> defs = fields[f];
-            defs.insert(defs.end(), pair_forces[g].begin(), pair_forces[g].end());
-            ParticleForces forces(defs, mass, inv_mass);
-            for (int trial = 0; trial < 50; ++trial) {
-                SCOPED_TRACE("generator " + std::to_string(g) + ", field " + std::to_string(f) + ", trial " +
-                             std::to_string(trial));
-                Vec3Array x(2), v(2), a(2), sum(2);
-                x.set(0, random.uniform(0.0, 2.0) * random.unit_vector());
-                x.set(1, trial == 0 ? x.get(0) : random.uniform(0.1, 3.0) * random.unit_vector());
-                v.set(1, random.normal(0.0, 1.0) * random.unit_vector());
-                forces.acceleration(0.0, 0, x.span(), v.span(), a.span());
-                Jacobians jacobians;
-                forces.force_and_jacobians(0.0, 0, x.span(), v.span(), sum.span(), jacobians);
-                for (std::size_t i = 0; i < 2; ++i) {
-                    for (int k = 0; k < 3; ++k) {
-                        EXPECT_EQ(a.get(i)[k], sum.get(i)[k] * inv_mass[i]) << "particle " << i << " axis " << k;
+            for (const std::vector<double>& inv_mass : inverse_masses) {
+                std::vector<ForceDef> defs = fields[f];
+                defs.insert(defs.end(), pair_forces[g].begin(), pair_forces[g].end());
+                ParticleForces forces(defs, mass, inv_mass);
+                for (int trial = 0; trial < 30; ++trial) {
+                    SCOPED_TRACE("generator " + std::to_string(g) + ", field " + std::to_string(f) + ", 1/m " +
+                                 std::to_string(inv_mass[0]) + " " + std::to_string(inv_mass[1]) + ", trial " +
+                                 std::to_string(trial));
+                    Vec3Array x(2), v(2), a(2), sum(2);
+                    x.set(0, random.uniform(0.0, 2.0) * random.unit_vector());
+                    x.set(1, trial == 0 ? x.get(0) : random.uniform(0.1, 3.0) * random.unit_vector());
+                    v.set(0, random.normal(0.0, 1.0) * random.unit_vector());
+                    v.set(1, random.normal(0.0, 1.0) * random.unit_vector());
+                    forces.acceleration(0.0, 0, x.span(), v.span(), a.span());
+                    Jacobians jacobians;
+                    forces.force_and_jacobians(0.0, 0, x.span(), v.span(), sum.span(), jacobians);
+                    for (std::size_t i = 0; i < 2; ++i) {
+                        for (int k = 0; k < 3; ++k) {
+                            EXPECT_EQ(bits(a.get(i)[k]), bits(sum.get(i)[k] * inv_mass[i]))
+                                << "particle " << i << " axis " << k;
+                        }
                     }
+                    EXPECT_TRUE(std::isfinite(a.get(1).x()));
                 }
-                EXPECT_TRUE(std::isfinite(a.get(1).x()));
             }
         }
     }

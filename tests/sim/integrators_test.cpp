@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <string>
 #include <utility>
@@ -185,11 +187,14 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // few must end with the same bits, for every explicit method, with and
 // without a field (linear drag alone, or with quadratic drag), dampers, on
 // one bead (the paths' two-particle builds; its spring listed from the
-// anchor, or to it with a rest length and a damper), two, and a chain of more
-// particles and springs than the straight evaluation takes (RK4's stack path
-// with the spring plan's pass).
+// anchor, or to it with a rest length and a damper, or both springs), two
+// free particles on one spring, two beads, and a chain of more particles and
+// springs than the straight evaluation takes (RK4's stack path with the
+// spring plan's pass). Bits, not values: -0 is not +0 here.
 enum class FewField { none, linear_drag, quadratic_drag };
-enum class FewShape { one_bead, one_bead_reversed, two_beads, chain };
+enum class FewShape { one_bead, one_bead_reversed, one_bead_two_springs, free_pair, two_beads, chain };
+
+std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 
 ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     ParticleModel model;
@@ -197,6 +202,8 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     Springs springs;
     springs.list = {{0, 1, 0.0, 4.0, 0.0}};
     if (shape == FewShape::one_bead_reversed) springs.list = {{1, 0, 0.6, 9.0, 0.3}};
+    if (shape == FewShape::one_bead_two_springs) springs.list.push_back({1, 0, 0.6, 9.0, 0.3});
+    if (shape == FewShape::free_pair) model.particles[0] = {Vec3(-0.3, 0.1, 0.2), Vec3(0.4, -0.2, 0.3), 2.5, false};
     if (shape == FewShape::two_beads || shape == FewShape::chain) {
         model.particles.push_back({Vec3(1.5, -0.4, 0.3), Vec3(0.2, 0.0, -0.3), 0.7, false});
         springs.list.push_back({1, 2, 0.6, 9.0, 0.3});
@@ -229,12 +236,15 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
 
 TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     const char* fields[] = {"springs alone", "gravity and linear drag", "gravity, linear and quadratic drag"};
-    const char* shapes[] = {"one bead", "one bead, its spring reversed", "two beads", "a chain"};
+    const char* shapes[] = {
+        "one bead", "one bead, its spring reversed", "one bead, two springs", "two free particles", "two beads",
+        "a chain"};
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         for (const FewField field : {FewField::none, FewField::linear_drag, FewField::quadratic_drag}) {
             for (const FewShape shape :
-                 {FewShape::one_bead, FewShape::one_bead_reversed, FewShape::two_beads, FewShape::chain}) {
+                 {FewShape::one_bead, FewShape::one_bead_reversed, FewShape::one_bead_two_springs, FewShape::free_pair,
+                  FewShape::two_beads, FewShape::chain}) {
                 SCOPED_TRACE(std::string(info.name) + ", " + fields[static_cast<int>(field)] + ", " +
                              shapes[static_cast<int>(shape)]);
                 World few(few_beads(0, field, shape)), many(few_beads(20, field, shape));
@@ -253,15 +263,46 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
                 EXPECT_EQ(few.verdict().exploded(), many.verdict().exploded());
                 for (std::size_t i = 0; i < few.state().size(); ++i) {
                     for (int k = 0; k < 3; ++k) {
-                        EXPECT_EQ(few.state().x.get(i)[k], many.state().x.get(i)[k])
+                        EXPECT_EQ(bits(few.state().x.get(i)[k]), bits(many.state().x.get(i)[k]))
                             << "particle " << i << " axis " << k;
-                        EXPECT_EQ(few.state().v.get(i)[k], many.state().v.get(i)[k])
+                        EXPECT_EQ(bits(few.state().v.get(i)[k]), bits(many.state().v.get(i)[k]))
                             << "particle " << i << " axis " << k;
                     }
                 }
                 EXPECT_NE(few.state().x.get(1), few.model().particles[1].position) << "it moved";
             }
         }
+    }
+}
+
+// One particle alone (RK4's one-particle build) and inside 20 more, all
+// pulled towards one fixed point (central gravity: not a uniform field, so
+// no fused pass): the same bits.
+TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
+    auto orbiters = [](std::size_t n) {
+        ParticleModel model;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double s = static_cast<double>(i);
+            model.particles.push_back({Vec3(1.0 + 0.1 * s, 0.2 * s, -0.1), Vec3(0.1, 1.0, 0.05 * s), 1.0, false});
+        }
+        model.forces.push_back(CentralGravity{Vec3(0.0, 0.0, 0.0), 1.0});
+        return model;
+    };
+    for (const IntegratorInfo& info : kIntegrators) {
+        if (info.needs_jacobians) continue;
+        SCOPED_TRACE(info.name);
+        World one(orbiters(1)), many(orbiters(21));
+        ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
+        for (int i = 0; i < 120; ++i) {
+            one.step({info.id, 1.0 / 60.0, 2});
+            many.step({info.id, 1.0 / 60.0, 2});
+        }
+        ASSERT_FALSE(one.verdict().exploded()) << one.verdict().message("one");
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bits(one.state().x.get(0)[k]), bits(many.state().x.get(0)[k])) << "axis " << k;
+            EXPECT_EQ(bits(one.state().v.get(0)[k]), bits(many.state().v.get(0)[k])) << "axis " << k;
+        }
+        EXPECT_NE(one.state().x.get(0), one.model().particles[0].position) << "it moved";
     }
 }
 
