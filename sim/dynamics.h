@@ -36,6 +36,15 @@ inline FieldForce field_force(double m, double vx, double vy, double vz, double 
     return {m * gx - drag * vx, m * gy - drag * vy, m * gz - drag * vz};
 }
 
+struct Spring;  // sim/spring.h
+
+// A force that is, on a system of two particles, one spring between them,
+// with a uniform field or without (a bead on its anchor).
+struct SpringPair {
+    const Spring* spring = nullptr;
+    const UniformField* field = nullptr;  // nullptr: none
+};
+
 class Dynamics {
 public:
     virtual ~Dynamics() = default;
@@ -46,6 +55,12 @@ public:
     // count_evaluations.
     virtual const UniformField* uniform_field() const { return nullptr; }
     virtual void count_evaluations(std::size_t /*particles*/) {}
+
+    // The whole force on `particles` particles as a SpringPair, when it is
+    // one (else nullptr): RK4 then evaluates it inline (sim/pair_forces.h),
+    // its stages in registers, and reports the evaluations through
+    // count_evaluations.
+    virtual const SpringPair* spring_pair(std::size_t /*particles*/) const { return nullptr; }
 
     // True when no force reads a particle's velocity (no drag, no damper):
     // an integrator may then skip predicting the velocity a force would see.

@@ -2,6 +2,7 @@
 
 #include "sim/cpu.h"
 #include "sim/overloaded.h"
+#include "sim/pair_forces.h"
 
 #include <algorithm>
 #include <chrono>
@@ -72,6 +73,8 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
         central_only_ = std::get_if<CentralGravity>(others_[0]);
         const auto* springs = std::get_if<Springs>(others_[0]);
         if (springs != nullptr && plans_[0].few) few_ = {springs, has_field_ ? &field_ : nullptr};
+        if (springs != nullptr && springs->list.size() == 1)
+            spring_pair_ = {&springs->list[0], has_field_ ? &field_ : nullptr};
         if (const auto* gravity = std::get_if<NewtonGravity>(others_[0])) {
             pair_gravity_ = {gravity, has_field_ ? &field_ : nullptr};
         }
@@ -172,61 +175,12 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
     }
 }
 
-// The pairs' paths: two particles (a bead on its anchor, a planet around a
-// pinned sun) and one generator between them, the sums in registers, each
-// acceleration written once: on the general path the sums pass through
-// memory twice more, a store and a load on the critical path of every RK4
-// stage. The same operations in the same order as that path.
-
-// The field's force on particles 0 and 1 (or 0), N: where each sum starts.
-struct PairForce {
-    FieldForce p0{0.0, 0.0, 0.0}, p1{0.0, 0.0, 0.0};
-};
-[[gnu::always_inline]] inline PairForce pair_field(const UniformField* field, const ConstVec3Span& v,
-                                                   const double* mass) {
-    if (field == nullptr) return {};
-    auto both = [&](auto quadratic) {
-        constexpr bool kQuadratic = decltype(quadratic)::value;
-        const UniformField& g = *field;
-        return PairForce{
-            field_force<kQuadratic>(mass[0], v.c[0][0], v.c[1][0], v.c[2][0], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2),
-            field_force<kQuadratic>(mass[1], v.c[0][1], v.c[1][1], v.c[2][1], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2)};
-    };
-    return field->c2 != 0.0 ? both(std::true_type{}) : both(std::false_type{});
-}
-
-// a = M⁻¹ f, written once.
-[[gnu::always_inline]] inline void pair_store(const PairForce& f, const double* inv_mass, const Vec3Span& a) {
-    a.c[0][0] = f.p0.x * inv_mass[0], a.c[1][0] = f.p0.y * inv_mass[0], a.c[2][0] = f.p0.z * inv_mass[0];
-    a.c[0][1] = f.p1.x * inv_mass[1], a.c[1][1] = f.p1.y * inv_mass[1], a.c[2][1] = f.p1.z * inv_mass[1];
-}
-
-// One spring (accumulate's reference loop on one spring): its first particle
-// gets + g, its second - g.
-[[gnu::always_inline]] inline void one_spring_acceleration(const FewSprings& few, const ConstVec3Span& x,
-                                                           const ConstVec3Span& v, const double* mass,
-                                                           const double* inv_mass, const Vec3Span& a) {
-    PairForce f = pair_field(few.field, v, mass);
-    const Spring& s = few.springs->list[0];
-    double gx, gy, gz;
-    if (spring_pull(s, x.c[0], x.c[1], x.c[2], v.c[0], v.c[1], v.c[2], gx, gy, gz)) {
-        if (s.i == 0) {
-            f.p0.x += gx, f.p0.y += gy, f.p0.z += gz;
-            f.p1.x -= gx, f.p1.y -= gy, f.p1.z -= gz;
-        } else {
-            f.p1.x += gx, f.p1.y += gy, f.p1.z += gz;
-            f.p0.x -= gx, f.p0.y -= gy, f.p0.z -= gz;
-        }
-    }
-    pair_store(f, inv_mass, a);
-}
-
-// Newton's gravity between the two (accumulate's loop on one pair): 0 gets
-// + f01, 1 gets + (-f01).
+// Newton's gravity between two particles (accumulate's loop on one pair,
+// sim/pair_forces.h's way): 0 gets + f01, 1 gets + (-f01).
 [[gnu::always_inline]] inline void pair_gravity_acceleration(const PairGravity& pair, const ConstVec3Span& x,
                                                              const ConstVec3Span& v, const double* mass,
                                                              const double* inv_mass, const Vec3Span& a) {
-    PairForce f = pair_field(pair.field, v, mass);
+    pair::PairForce f = pair::field(pair.field, v.c, mass);
     const NewtonGravity& gravity = *pair.gravity;
     const double eps2 = gravity.softening * gravity.softening;
     const Vec3 d = x.get(1) - x.get(0);
@@ -237,7 +191,7 @@ struct PairForce {
         f.p0.x += f01.x(), f.p0.y += f01.y(), f.p0.z += f01.z();
         f.p1.x += f10.x(), f.p1.y += f10.y(), f.p1.z += f10.z();
     }
-    pair_store(f, inv_mass, a);
+    pair::store(f, inv_mass, a.c);
 }
 
 // a = M⁻¹ f(x, v) for a FewSprings force on the particles [first, first +
@@ -249,9 +203,6 @@ template <std::size_t kN>
                                                            const ConstVec3Span& x, const ConstVec3Span& v,
                                                            const double* mass, const double* inv_mass,
                                                            const Vec3Span& a) {
-    if constexpr (kN == 2) {
-        if (few.springs->list.size() == 1) return one_spring_acceleration(few, x, v, mass, inv_mass, a);
-    }
     const std::size_t n = kN > 0 ? kN : x.n;
     double* a0 = a.c[0];
     double* a1 = a.c[1];
@@ -340,6 +291,10 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
     // on so small a system the general path's dispatch (the generator list,
     // the plan, the spring clock, the widths) costs as much as the force. The
     // same operations on each particle as that path.
+    if (const SpringPair* pair = spring_pair(x.n)) {
+        pair::spring_acceleration(*pair, x.c, v.c, mass_->data() + first, inv_mass_->data() + first, a.c);
+        return;
+    }
     if (const FewSprings* few = few_springs(x.n)) {
         const double* mass = mass_->data() + first;
         const double* inv_mass = inv_mass_->data() + first;

@@ -55,7 +55,7 @@ class ParticleForces final : public Dynamics {
 public:
     ParticleForces(const std::vector<ForceDef>& forces, const std::vector<double>& mass,
                    const std::vector<double>& inv_mass);
-    // few_ and pair_gravity_ point into this object: not copyable or movable.
+    // few_, pair_gravity_ and spring_pair_ point into this object: not copyable or movable.
     ParticleForces(const ParticleForces&) = delete;
     ParticleForces& operator=(const ParticleForces&) = delete;
 
@@ -68,6 +68,11 @@ public:
                              const Vec3Span& f, Jacobians& jac) override;
     const double* mass() const override { return mass_->data(); }
     const double* inv_mass() const override { return inv_mass_->data(); }
+    // One spring on two particles, with the field (outside the frames the
+    // per-system clocks sample, as few_springs).
+    const SpringPair* spring_pair(std::size_t particles) const override {
+        return spring_pair_.spring != nullptr && particles == 2 && spring_time_ == nullptr ? &spring_pair_ : nullptr;
+    }
     const UniformField* uniform_field() const override { return others_.empty() && has_field_ ? &field_ : nullptr; }
     void count_evaluations(std::size_t particles) override { particle_evaluations_ += particles; }
     bool velocity_free() const override { return velocity_free_; }
@@ -146,6 +151,7 @@ private:
     // Newton's gravity alone (with the field), for two particles: straight
     // through pair_gravity_acceleration (pair_gravity_.gravity: nullptr where not).
     PairGravity pair_gravity_;
+    SpringPair spring_pair_;     // one spring (few_'s list of one), with the field; .spring: nullptr where not
     bool springs_last_ = false;  // the last generator outside the field is a planned spring pass
     bool wide_ = false;          // the passes' AVX2 builds (the same bits), where the CPU has it
     std::uint64_t particle_evaluations_ = 0;

@@ -7,6 +7,7 @@
 
 #include "sim/cpu.h"
 #include "sim/fused_pass.h"
+#include "sim/pair_forces.h"
 #include "sim/watchdog.h"
 
 #include <cstddef>
@@ -162,11 +163,13 @@ constexpr bool stage_is_state(std::size_t i) {
 // as on the array path (the same bits, tested); the step pass applies the
 // watchdog's per-particle rules (s.watch).
 constexpr std::size_t kFew = StepArrays::kFewParticles;
-using FewArray = double[3][kFew];  // one stage's values, component by component
+template <std::size_t kN>                        // kN particles (0: up to kFew)
+using FewArray = double[3][kN > 0 ? kN : kFew];  // one stage's values, component by component
 
 // Stage I's X_I and V_I (stage J's velocity is the state's where J is).
 template <const auto& kTableau, std::size_t kN, std::size_t I, std::size_t... J>
-void few_stage(const StepArrays& s, FewArray& X, FewArray* V, const FewArray* A, double h, std::index_sequence<J...>) {
+void few_stage(const StepArrays& s, FewArray<kN>& X, FewArray<kN>* V, const FewArray<kN>* A, double h,
+               std::index_sequence<J...>) {
     const std::size_t n = kN > 0 ? kN : s.x.n;
     for (std::size_t p = 0; p < n; ++p) {
         for (int k = 0; k < 3; ++k) {
@@ -185,7 +188,7 @@ void few_stage(const StepArrays& s, FewArray& X, FewArray* V, const FewArray* A,
 // The step, x' = x + Σ_i (h b_i) V_i and v' = v + Σ_i (h b_i) A_i, with the
 // watchdog's per-particle rules on each particle it leaves.
 template <const auto& kTableau, std::size_t kN, std::size_t... I>
-void few_step(const StepArrays& s, const FewArray* V, const FewArray* A, double h, std::index_sequence<I...>) {
+void few_step(const StepArrays& s, const FewArray<kN>* V, const FewArray<kN>* A, double h, std::index_sequence<I...>) {
     std::size_t suspects = 0;
     const std::size_t n = kN > 0 ? kN : s.x.n;
     for (std::size_t p = 0; p < n; ++p) {
@@ -209,10 +212,31 @@ void few_step(const StepArrays& s, const FewArray* V, const FewArray* A, double 
 template <const auto& kTableau, std::size_t kN, std::size_t... I>
 void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h, std::index_sequence<I...>) {
     constexpr std::size_t S = sizeof...(I);
-    FewArray X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
+    FewArray<kN> X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     const std::size_t n = kN > 0 ? kN : s.x.n;
-    auto span = [&](FewArray& c) { return Vec3Span(c[0], c[1], c[2], n); };
-    auto read = [&](const FewArray& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
+    if constexpr (kN == 2) {
+        // One spring between the two: the force inline, so that no stage
+        // leaves the registers (sim/pair_forces.h).
+        if (const SpringPair* pair = dynamics.spring_pair(2)) {
+            const double* mass = dynamics.mass() + s.first;
+            const double* inv_mass = dynamics.inv_mass() + s.first;
+            auto stage = [&](auto i_constant) {
+                constexpr std::size_t i = decltype(i_constant)::value;
+                if constexpr (stage_is_state<kTableau>(i)) {
+                    pair::spring_acceleration(*pair, s.x.c, s.v.c, mass, inv_mass, A[i]);
+                } else {
+                    few_stage<kTableau, kN, i>(s, X, V, A, h, std::make_index_sequence<i>{});
+                    pair::spring_acceleration(*pair, X, V[i], mass, inv_mass, A[i]);
+                }
+            };
+            (stage(std::integral_constant<std::size_t, I>{}), ...);
+            few_step<kTableau, kN>(s, V, A, h, std::index_sequence<I...>{});
+            dynamics.count_evaluations(S * n);
+            return;
+        }
+    }
+    auto span = [&](FewArray<kN>& c) { return Vec3Span(c[0], c[1], c[2], n); };
+    auto read = [&](const FewArray<kN>& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
     auto stage = [&](auto i_constant) {
         constexpr std::size_t i = decltype(i_constant)::value;
         if constexpr (stage_is_state<kTableau>(i)) {

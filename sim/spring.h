@@ -54,25 +54,26 @@ Vec3 spring_force(const Spring& s, const Vec3& xi, const Vec3& xj, const Vec3& v
 
 void validate(const Springs& springs, std::size_t particle_count);
 constexpr bool is_local(const Springs&) { return false; }
-// spring_force over raw component arrays: the pull g of spring s on its
-// first particle (the second gets -g); false where it has none (ℓ > 0 and
-// the two particles on top of each other). Inline, in the loops below and a
-// few particles' path (sim/forces.cpp): operation for operation
-// spring_force's arithmetic (the same bits). Through Vec3 temporaries the
-// cloth's spring loop lost a fifth of its speed; one division instead of
-// three (d (1 / |d|)) measured no clear gain.
-[[gnu::always_inline]] inline bool spring_pull(const Spring& s, const double* x, const double* y, const double* z,
-                                               const double* vx, const double* vy, const double* vz, double& gx,
-                                               double& gy, double& gz) {
-    const std::uint32_t i = s.i, j = s.j;
-    const double dx = x[j] - x[i], dy = y[j] - y[i], dz = z[j] - z[i];
+// spring_force on plain values: the pull g of spring s on its first particle
+// i (the second, j, gets -g), given both particles' positions and dv(k),
+// component k of v_j - v_i (read only where the damper needs it); false
+// where it has none (ℓ > 0 and the two particles on top of each other).
+// Inline, in the loops below and the pairs' paths (sim/pair_forces.h):
+// operation for operation spring_force's arithmetic (the same bits). Through
+// Vec3 temporaries the cloth's spring loop lost a fifth of its speed; one
+// division instead of three (d (1 / |d|)) measured no clear gain.
+template <class RelativeVelocity>
+[[gnu::always_inline]] inline bool spring_pull(const Spring& s, double xi, double yi, double zi, double xj, double yj,
+                                               double zj, const RelativeVelocity& dv, double& gx, double& gy,
+                                               double& gz) {
+    const double dx = xj - xi, dy = yj - yi, dz = zj - zi;
     if (s.rest == 0.0) {
         gx = s.k * dx, gy = s.k * dy, gz = s.k * dz;
         // Only the damper needs the length (see spring_force).
         const double length = s.c != 0.0 ? std::sqrt(dx * dx + dy * dy + dz * dz) : 0.0;
         if (length > 0.0) {
             const double nx = dx / length, ny = dy / length, nz = dz / length;
-            const double damp = s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
+            const double damp = s.c * (dv(0) * nx + dv(1) * ny + dv(2) * nz);
             gx += damp * nx, gy += damp * ny, gz += damp * nz;
         }
         return true;
@@ -80,8 +81,7 @@ constexpr bool is_local(const Springs&) { return false; }
     const double length = std::sqrt(dx * dx + dy * dy + dz * dz);
     if (length == 0.0) return false;
     const double nx = dx / length, ny = dy / length, nz = dz / length;
-    const double magnitude =
-        s.k * (length - s.rest) + s.c * ((vx[j] - vx[i]) * nx + (vy[j] - vy[i]) * ny + (vz[j] - vz[i]) * nz);
+    const double magnitude = s.k * (length - s.rest) + s.c * (dv(0) * nx + dv(1) * ny + dv(2) * nz);
     gx = magnitude * nx, gy = magnitude * ny, gz = magnitude * nz;
     return true;
 }
@@ -102,10 +102,12 @@ inline void accumulate(const Springs& springs, const ForceInput& in, const Vec3S
     double* __restrict fy = f.c[1];
     double* __restrict fz = f.c[2];
     for (const Spring& s : springs.list) {
+        const std::uint32_t i = s.i, j = s.j;
         double gx, gy, gz;
-        if (!spring_pull(s, x, y, z, vx, vy, vz, gx, gy, gz)) continue;
-        fx[s.i] += gx, fy[s.i] += gy, fz[s.i] += gz;
-        fx[s.j] -= gx, fy[s.j] -= gy, fz[s.j] -= gz;
+        auto dv = [&](int k) { return k == 0 ? vx[j] - vx[i] : k == 1 ? vy[j] - vy[i] : vz[j] - vz[i]; };
+        if (!spring_pull(s, x[i], y[i], z[i], x[j], y[j], z[j], dv, gx, gy, gz)) continue;
+        fx[i] += gx, fy[i] += gy, fz[i] += gz;
+        fx[j] -= gx, fy[j] -= gy, fz[j] -= gz;
     }
 }
 

@@ -1,0 +1,74 @@
+// The pairs' paths: the force on a system of two particles (a bead on its
+// anchor, a planet around a pinned sun) with one generator between them,
+// the sums in registers and each acceleration written once. On the general
+// path (ParticleForces' zero or field pass, the generators, M⁻¹) the sums
+// pass through memory twice more, a store and a load on the critical path of
+// every RK4 stage. The same operations in the same order as that path (the
+// same bits, tested: PairPaths in tests/sim/forces_test.cpp).
+//
+// The component arrays are anything indexed [component][particle]: a span's
+// pointers (ParticleForces) or RK4's stage arrays (sim/runge_kutta.cpp,
+// which evaluates a spring pair inline so that its stages stay in
+// registers). Particle indices are constants throughout, for that reason.
+#pragma once
+
+#include "sim/dynamics.h"
+#include "sim/spring.h"
+
+#include <type_traits>
+
+namespace sim::pair {
+
+// The field's force on particles 0 and 1 (or 0), N: where each sum starts.
+struct PairForce {
+    FieldForce p0{0.0, 0.0, 0.0}, p1{0.0, 0.0, 0.0};
+};
+template <class Components>
+[[gnu::always_inline]] inline PairForce field(const UniformField* field, const Components& v, const double* mass) {
+    if (field == nullptr) return {};
+    auto both = [&](auto quadratic) {
+        constexpr bool kQuadratic = decltype(quadratic)::value;
+        const UniformField& g = *field;
+        return PairForce{
+            field_force<kQuadratic>(mass[0], v[0][0], v[1][0], v[2][0], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2),
+            field_force<kQuadratic>(mass[1], v[0][1], v[1][1], v[2][1], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2)};
+    };
+    return field->c2 != 0.0 ? both(std::true_type{}) : both(std::false_type{});
+}
+
+// a = M⁻¹ f, written once.
+template <class Components>
+[[gnu::always_inline]] inline void store(const PairForce& f, const double* inv_mass, Components& a) {
+    a[0][0] = f.p0.x * inv_mass[0], a[1][0] = f.p0.y * inv_mass[0], a[2][0] = f.p0.z * inv_mass[0];
+    a[0][1] = f.p1.x * inv_mass[1], a[1][1] = f.p1.y * inv_mass[1], a[2][1] = f.p1.z * inv_mass[1];
+}
+
+// Spring s's pull, listed from particle kI to the other: kI's sum gets + g,
+// the other's - g.
+template <int kI, class In>
+[[gnu::always_inline]] inline void spring_pull_from(const Spring& s, const In& x, const In& v, FieldForce& fi,
+                                                    FieldForce& fj) {
+    constexpr int kJ = 1 - kI;
+    double gx, gy, gz;
+    auto dv = [&v](int k) { return v[k][kJ] - v[k][kI]; };
+    if (spring_pull(s, x[0][kI], x[1][kI], x[2][kI], x[0][kJ], x[1][kJ], x[2][kJ], dv, gx, gy, gz)) {
+        fi.x += gx, fi.y += gy, fi.z += gz;
+        fj.x -= gx, fj.y -= gy, fj.z -= gz;
+    }
+}
+
+// One spring (accumulate's reference loop on one spring), listed either way.
+template <class In, class Out>
+[[gnu::always_inline]] inline void spring_acceleration(const SpringPair& pair, const In& x, const In& v,
+                                                       const double* mass, const double* inv_mass, Out& a) {
+    PairForce f = field(pair.field, v, mass);
+    const Spring& s = *pair.spring;
+    if (s.i == 0) {
+        spring_pull_from<0>(s, x, v, f.p0, f.p1);
+    } else {
+        spring_pull_from<1>(s, x, v, f.p1, f.p0);
+    }
+    store(f, inv_mass, a);
+}
+
+}  // namespace sim::pair
