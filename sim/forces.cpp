@@ -72,9 +72,10 @@ ParticleForces::ParticleForces(const std::vector<ForceDef>& forces, const std::v
     if (others_.size() == 1) {
         central_only_ = std::get_if<CentralGravity>(others_[0]);
         const auto* springs = std::get_if<Springs>(others_[0]);
-        if (springs != nullptr && plans_[0].few) few_ = {springs, has_field_ ? &field_ : nullptr};
-        if (springs != nullptr && springs->list.size() == 1)
-            spring_pair_ = {&springs->list[0], has_field_ ? &field_ : nullptr};
+        if (springs != nullptr && plans_[0].few) {
+            few_ = {springs, has_field_ ? &field_ : nullptr};
+            if (springs->list.size() == 1) spring_pair_ = {&springs->list[0], few_.field};
+        }
         if (const auto* gravity = std::get_if<NewtonGravity>(others_[0])) {
             pair_gravity_ = {gravity, has_field_ ? &field_ : nullptr};
         }

@@ -188,11 +188,12 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // without a field (linear drag alone, or with quadratic drag), dampers, on
 // one bead (the paths' two-particle builds; its spring listed from the
 // anchor, or to it with a rest length and a damper, or both springs), two
-// free particles on one spring, two beads, and a chain of more particles and
+// free particles on one spring, a bead on a plastic spring, two beads, and a
+// chain of more particles and
 // springs than the straight evaluation takes (RK4's stack path with the
 // spring plan's pass). Bits, not values: -0 is not +0 here.
 enum class FewField { none, linear_drag, quadratic_drag };
-enum class FewShape { one_bead, one_bead_reversed, one_bead_two_springs, free_pair, two_beads, chain };
+enum class FewShape { one_bead, one_bead_reversed, one_bead_two_springs, free_pair, plastic_bead, two_beads, chain };
 
 std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 
@@ -204,6 +205,10 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     if (shape == FewShape::one_bead_reversed) springs.list = {{1, 0, 0.6, 9.0, 0.3}};
     if (shape == FewShape::one_bead_two_springs) springs.list.push_back({1, 0, 0.6, 9.0, 0.3});
     if (shape == FewShape::free_pair) model.particles[0] = {Vec3(-0.3, 0.1, 0.2), Vec3(0.4, -0.2, 0.3), 2.5, false};
+    if (shape == FewShape::plastic_bead) {  // its rest length creeps as it stretches: the pair reads the live spring
+        springs.list = {{1, 0, 0.6, 9.0, 0.3}};
+        springs.plasticity = {0.02, 3.0, 0.5};
+    }
     if (shape == FewShape::two_beads || shape == FewShape::chain) {
         model.particles.push_back({Vec3(1.5, -0.4, 0.3), Vec3(0.2, 0.0, -0.3), 0.7, false});
         springs.list.push_back({1, 2, 0.6, 9.0, 0.3});
@@ -236,15 +241,19 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
 
 TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     const char* fields[] = {"springs alone", "gravity and linear drag", "gravity, linear and quadratic drag"};
-    const char* shapes[] = {
-        "one bead", "one bead, its spring reversed", "one bead, two springs", "two free particles", "two beads",
-        "a chain"};
+    const char* shapes[] = {"one bead",
+                            "one bead, its spring reversed",
+                            "one bead, two springs",
+                            "two free particles",
+                            "one plastic bead",
+                            "two beads",
+                            "a chain"};
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         for (const FewField field : {FewField::none, FewField::linear_drag, FewField::quadratic_drag}) {
             for (const FewShape shape :
                  {FewShape::one_bead, FewShape::one_bead_reversed, FewShape::one_bead_two_springs, FewShape::free_pair,
-                  FewShape::two_beads, FewShape::chain}) {
+                  FewShape::plastic_bead, FewShape::two_beads, FewShape::chain}) {
                 SCOPED_TRACE(std::string(info.name) + ", " + fields[static_cast<int>(field)] + ", " +
                              shapes[static_cast<int>(shape)]);
                 World few(few_beads(0, field, shape)), many(few_beads(20, field, shape));
@@ -270,6 +279,9 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
                     }
                 }
                 EXPECT_NE(few.state().x.get(1), few.model().particles[1].position) << "it moved";
+                if (shape == FewShape::plastic_bead) {
+                    EXPECT_NE(std::get<Springs>(few.live_forces().back()).list[0].rest, 0.6) << "m, it crept";
+                }
             }
         }
     }
