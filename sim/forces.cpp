@@ -176,35 +176,15 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
     }
 }
 
-// Newton's gravity between two particles (accumulate's loop on one pair,
-// sim/pair_forces.h's way): 0 gets + f01, 1 gets + (-f01).
-[[gnu::always_inline]] inline void pair_gravity_acceleration(const PairGravity& pair, const ConstVec3Span& x,
-                                                             const ConstVec3Span& v, const double* mass,
-                                                             const double* inv_mass, const Vec3Span& a) {
-    pair::PairForce f = pair::field(pair.field, v.c, mass);
-    const NewtonGravity& gravity = *pair.gravity;
-    const double eps2 = gravity.softening * gravity.softening;
-    const Vec3 d = x.get(1) - x.get(0);
-    const double s2 = d.squaredNorm() + eps2;
-    if (s2 != 0.0) {  // else two unsoftened particles at one point: no direction
-        const Vec3 f01 = (gravity.G * mass[0] * mass[1] / (s2 * std::sqrt(s2))) * d;
-        const Vec3 f10 = -f01;
-        f.p0.x += f01.x(), f.p0.y += f01.y(), f.p0.z += f01.z();
-        f.p1.x += f10.x(), f.p1.y += f10.y(), f.p1.z += f10.z();
-    }
-    pair::store(f, inv_mass, a.c);
-}
-
 // a = M⁻¹ f(x, v) for a FewSprings force on the particles [first, first +
 // x.n), x.n <= kFewSpringParticles (mass and inv_mass: the block's): the field's force (or 0), then the
 // springs in list order (accumulate's reference loop), then M⁻¹, one
 // particle at a time: the general path's operations on each particle.
-template <std::size_t kN>
 [[gnu::always_inline]] inline void few_spring_acceleration(const FewSprings& few, double t, std::size_t first,
                                                            const ConstVec3Span& x, const ConstVec3Span& v,
                                                            const double* mass, const double* inv_mass,
                                                            const Vec3Span& a) {
-    const std::size_t n = kN > 0 ? kN : x.n;
+    const std::size_t n = x.n;
     double* a0 = a.c[0];
     double* a1 = a.c[1];
     double* a2 = a.c[2];
@@ -297,17 +277,11 @@ void ParticleForces::acceleration(double t, std::size_t first, const ConstVec3Sp
         return;
     }
     if (const FewSprings* few = few_springs(x.n)) {
-        const double* mass = mass_->data() + first;
-        const double* inv_mass = inv_mass_->data() + first;
-        if (x.n == 2) {
-            few_spring_acceleration<2>(*few, t, first, x, v, mass, inv_mass, a);
-        } else {
-            few_spring_acceleration<0>(*few, t, first, x, v, mass, inv_mass, a);
-        }
+        few_spring_acceleration(*few, t, first, x, v, mass_->data() + first, inv_mass_->data() + first, a);
         return;
     }
     if (pair_gravity_.gravity != nullptr && x.n == 2) {  // (not local: x is the whole system)
-        pair_gravity_acceleration(pair_gravity_, x, v, mass_->data() + first, inv_mass_->data() + first, a);
+        pair::gravity_acceleration(pair_gravity_, x.c, v.c, mass_->data() + first, inv_mass_->data() + first, a.c);
         return;
     }
     general_acceleration(input(t, first, x, v), a);

@@ -10,6 +10,7 @@
 #include "sim/gravity.h"
 #include "sim/linear_drag.h"
 #include "sim/newton_gravity.h"
+#include "sim/pair_forces.h"
 #include "sim/quadratic_drag.h"
 #include "sim/shock_wave.h"
 #include "sim/spring.h"
@@ -39,14 +40,6 @@ inline constexpr std::size_t kFewSpringParticles = 4;
 struct FewSprings {
     const Springs* springs = nullptr;     // nullptr: the force is not such a list
     const UniformField* field = nullptr;  // nullptr: none
-};
-
-// ParticleForces' description of a force that is Newton's gravity alone,
-// with a uniform field or without: on a system of two particles (a planet
-// around a pinned sun) it is evaluated straight from it, as FewSprings.
-struct PairGravity {
-    const NewtonGravity* gravity = nullptr;  // nullptr: the force is not that
-    const UniformField* field = nullptr;     // nullptr: none
 };
 
 // Sums a list of generators over a system of particles. Holds pointers to the
@@ -149,7 +142,7 @@ private:
     // the general dispatch (few_.springs: nullptr where it is not).
     FewSprings few_;
     // Newton's gravity alone (with the field), for two particles: straight
-    // through pair_gravity_acceleration (pair_gravity_.gravity: nullptr where not).
+    // through pair::gravity_acceleration (pair_gravity_.gravity: nullptr where not).
     PairGravity pair_gravity_;
     SpringPair spring_pair_;     // one spring (few_'s list of one), with the field; .spring: nullptr where not
     bool springs_last_ = false;  // the last generator outside the field is a planned spring pass

@@ -13,11 +13,22 @@
 #pragma once
 
 #include "sim/dynamics.h"
+#include "sim/newton_gravity.h"
 #include "sim/spring.h"
 
+#include <cmath>
 #include <type_traits>
 
-namespace sim::pair {
+namespace sim {
+
+// A force that is, on a system of two particles, Newton's gravity alone,
+// with a uniform field or without (a planet around a pinned sun).
+struct PairGravity {
+    const NewtonGravity* gravity = nullptr;  // nullptr: the force is not that
+    const UniformField* field = nullptr;     // nullptr: none
+};
+
+namespace pair {
 
 // The field's force on particles 0 and 1 (or 0), N: where each sum starts.
 struct PairForce {
@@ -71,4 +82,24 @@ template <class In, class Out>
     store(f, inv_mass, a);
 }
 
-}  // namespace sim::pair
+// Newton's gravity between the two (accumulate's loop on one pair): 0 gets
+// + f01, 1 gets + (-f01).
+template <class In, class Out>
+[[gnu::always_inline]] inline void gravity_acceleration(const PairGravity& pair, const In& x, const In& v,
+                                                        const double* mass, const double* inv_mass, Out& a) {
+    PairForce f = field(pair.field, v, mass);
+    const NewtonGravity& gravity = *pair.gravity;
+    const double eps2 = gravity.softening * gravity.softening;
+    const Vec3 d = Vec3(x[0][1], x[1][1], x[2][1]) - Vec3(x[0][0], x[1][0], x[2][0]);
+    const double s2 = d.squaredNorm() + eps2;
+    if (s2 != 0.0) {  // else two unsoftened particles at one point: no direction
+        const Vec3 f01 = (gravity.G * mass[0] * mass[1] / (s2 * std::sqrt(s2))) * d;
+        const Vec3 f10 = -f01;
+        f.p0.x += f01.x(), f.p0.y += f01.y(), f.p0.z += f01.z();
+        f.p1.x += f10.x(), f.p1.y += f10.y(), f.p1.z += f10.z();
+    }
+    store(f, inv_mass, a);
+}
+
+}  // namespace pair
+}  // namespace sim

@@ -264,17 +264,14 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     };
     if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
     if (s.x.n <= StepArrays::kFewParticles) {
-        switch (s.x.n) {
-            case 1:
-                few_runge_kutta<kTableau, 1>(dynamics, s, t, h, std::make_index_sequence<S>{});
-                return;
-            case 2:
-                few_runge_kutta<kTableau, 2>(dynamics, s, t, h, std::make_index_sequence<S>{});
-                return;
-            default:
-                few_runge_kutta<kTableau, 0>(dynamics, s, t, h, std::make_index_sequence<S>{});
-                return;
+        // Two particles (a bead on its anchor) get their own build: the
+        // loops unrolled, and a spring between them evaluated inline.
+        if (s.x.n == 2) {
+            few_runge_kutta<kTableau, 2>(dynamics, s, t, h, std::make_index_sequence<S>{});
+        } else {
+            few_runge_kutta<kTableau, 0>(dynamics, s, t, h, std::make_index_sequence<S>{});
         }
+        return;
     }
     const Vec3Span stage_x = s.scratch(0);
     Vec3Span stage_v[S];

@@ -348,7 +348,7 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
 // Two particles and one generator between them (a bead on its anchor, a
 // planet around a pinned sun) take their own path in acceleration(), the
 // sums in registers (sim/pair_forces.h); two springs on them, the
-// few-spring evaluation's two-particle build. force_and_jacobians sums the
+// few-spring evaluation on two particles. force_and_jacobians sums the
 // same forces on the general path: times 1/m, the same bits (bits, not
 // values: -0 is not +0 here), with no field, with linear drag, and with
 // quadratic drag too; particle 0 pinned, particle 1 pinned, or neither; the

@@ -186,7 +186,7 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // 20 more particles that never touch them) take the array paths: each of the
 // few must end with the same bits, for every explicit method, with and
 // without a field (linear drag alone, or with quadratic drag), dampers, on
-// one bead (the paths' two-particle builds; its spring listed from the
+// one bead (RK4's two-particle build, the spring pair; its spring listed from the
 // anchor, or to it with a rest length and a damper, or both springs), two
 // free particles on one spring, a bead on a plastic spring, two beads, and a
 // chain of more particles and
@@ -287,7 +287,7 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     }
 }
 
-// One particle alone (RK4's one-particle build) and inside 20 more, all
+// One particle alone (RK4's stack path) and inside 20 more, all
 // pulled towards one fixed point (central gravity: not a uniform field, so
 // no fused pass): the same bits.
 TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
