@@ -354,7 +354,10 @@ void World::plan_next_sample() {
 
 template <class Stopwatch>
 void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
-    const double h = settings.dt / settings.substeps;
+    // (One substep: h is dt, not dt / 1, which is the same bits and no
+    // division: its latency held up the whole of a small step, every stage
+    // waiting on h.)
+    const double h = settings.substeps == 1 ? settings.dt : settings.dt / settings.substeps;
     const bool constrained = systems_.constraints, colliding = systems_.collisions, plastic = systems_.plasticity;
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         for (const Emitter& emitter : model_.emitters) {
