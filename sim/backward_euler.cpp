@@ -5,12 +5,14 @@
 // integrators.cpp, what its factorization costs in backward_euler_cost.cpp.
 #include "sim/cpu.h"
 #include "sim/integrators.h"
+#include "sim/watchdog.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
 
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace sim {
@@ -31,11 +33,18 @@ namespace {
 // particle by particle with the arithmetic the sparse solve does on it
 // (its diagonal is the triplets' sum h c + m; LDLᵀ of a diagonal matrix
 // solves by the inverse, Δv = (1/d) · h f), so with the same bits (tested)
-// and without assembling and factoring a 3n x 3n matrix.
+// and without assembling and factoring a 3n x 3n matrix. kWatch: the
+// watchdog's per-particle rules on each particle it leaves, counted into
+// `watch` (as the explicit methods' passes do: no second pass over the
+// particles).
+template <bool kWatch>
 void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                              double* __restrict v1, double* __restrict v2, const double* __restrict mass,
-                             const double* __restrict inv_mass, std::size_t n, const UniformField& field, double h) {
+                             const double* __restrict inv_mass, std::size_t n, const UniformField& field, double h,
+                             StepArrays::Watch* __restrict watch) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c;
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
+    std::size_t count = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         const FieldForce f = field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
         // A pinned particle's right-hand side is zero (its row the identity
@@ -49,7 +58,9 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
         x0[i] += h * v0[i];
         x1[i] += h * v1[i];
         x2[i] += h * v2[i];
+        if constexpr (kWatch) count += is_suspect(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
     }
+    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
 }
 
 }  // namespace
@@ -58,9 +69,13 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
         field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
-        run_at_width(
-            s.wide_loops(), [](auto... a) { backward_euler_diagonal(a...); }, s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0],
-            s.v.c[1], s.v.c[2], dynamics.mass() + s.first, dynamics.inv_mass() + s.first, n, *field, h);
+        auto run = [&](auto watch_constant) {
+            run_at_width(
+                s.wide_loops(), [](auto... a) { backward_euler_diagonal<decltype(watch_constant)::value>(a...); },
+                s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], dynamics.mass() + s.first,
+                dynamics.inv_mass() + s.first, n, *field, h, s.watch);
+        };
+        s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
         dynamics.count_evaluations(n);
         return;
     }
