@@ -36,8 +36,9 @@ namespace {
 // and without assembling and factoring a 3n x 3n matrix. kWatch: the
 // watchdog's per-particle rules on each particle it leaves, counted into
 // `watch` (as the explicit methods' passes do: no second pass over the
-// particles).
-template <bool kWatch>
+// particles). kPinned: the block may hold pinned particles (else their
+// factor is left out, and inv_mass unread: the same bits, x · 1 being x).
+template <bool kWatch, bool kPinned>
 void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                              double* __restrict v1, double* __restrict v2, const double* __restrict mass,
                              const double* __restrict inv_mass, std::size_t n, const UniformField& field, double h,
@@ -50,7 +51,7 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
         // A pinned particle's right-hand side is zero (its row the identity
         // in the sparse system: any d > 0 gives the same zero); the factor
         // 1 or 0 keeps the loop free of branches.
-        const double free = static_cast<double>(inv_mass[i] != 0.0);
+        const double free = kPinned ? static_cast<double>(inv_mass[i] != 0.0) : 1.0;
         const double inverse = 1.0 / (h * c + mass[i]);
         v0[i] += inverse * ((h * f.x) * free);
         v1[i] += inverse * ((h * f.y) * free);
@@ -69,13 +70,19 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
         field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
-        auto run = [&](auto watch_constant) {
+        auto run = [&](auto watch_constant, auto pinned_constant) {
             run_at_width(
-                s.wide_loops(), [](auto... a) { backward_euler_diagonal<decltype(watch_constant)::value>(a...); },
+                s.wide_loops(),
+                [](auto... a) {
+                    backward_euler_diagonal<decltype(watch_constant)::value, decltype(pinned_constant)::value>(a...);
+                },
                 s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], dynamics.mass() + s.first,
                 dynamics.inv_mass() + s.first, n, *field, h, s.watch);
         };
-        s.watch != nullptr ? run(std::true_type{}) : run(std::false_type{});
+        auto with_pins = [&](auto watch_constant) {
+            s.none_pinned ? run(watch_constant, std::false_type{}) : run(watch_constant, std::true_type{});
+        };
+        s.watch != nullptr ? with_pins(std::true_type{}) : with_pins(std::false_type{});
         dynamics.count_evaluations(n);
         return;
     }

@@ -56,6 +56,10 @@ struct StepArrays {
     // Run the loops' AVX2 builds (sim/cpu.h: the same bits), on a block of
     // more than a few particles (wide_loops); only where the CPU has AVX2.
     bool wide = false;
+    // No particle of the block is pinned (inverse mass 0): a method may leave
+    // out what only a pinned particle needs (backward Euler's zero right-hand
+    // side). False when unknown.
+    bool none_pinned = false;
     // The watchdog's per-particle rules (sim/watchdog.h, is_suspect), when the
     // World asks for them: a method's last pass over the block (the fused
     // pass of a uniform field, the Euler and Verlet methods' last loop, RK4's

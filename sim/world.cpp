@@ -456,6 +456,7 @@ void World::watch_closely() {
             state_.inv_mass[i] = 0.0;
         }
         memory_valid_ = false;
+        prepared_.info = nullptr;  // the blocks now hold pinned particles
         verdict_ = {};
     }
 }
@@ -498,7 +499,12 @@ void World::prepare_step(Integrator integrator) {
                         : info.memory == Memory::previous_position ? &memory_x_prev_
                                                                    : nullptr;
     if (memory != nullptr && memory->size() != n) memory->resize(n);
-    prepared_ = {.info = &info, .n = n, .block = block};
+    // Pinned particles: edit_state and restore prepare again, and so does a
+    // contained range (it pins); an emitter's birth only unpins, which leaves
+    // a false "no" here, the safe side.
+    const bool none_pinned =
+        std::none_of(state_.inv_mass.begin(), state_.inv_mass.end(), [](double w) { return w == 0.0; });
+    prepared_ = {.info = &info, .n = n, .block = block, .none_pinned = none_pinned};
     if (n > 0 && n <= block) prepared_.whole = block_arrays(info, 0, n);
 }
 
@@ -511,6 +517,7 @@ StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, st
             .memory_valid = false,
             .temporaries = scratch_.data(),
             .wide = wide_,
+            .none_pinned = prepared_.none_pinned,
             .watch = nullptr};
 }
 

@@ -280,6 +280,7 @@ private:
         const IntegratorInfo* info = nullptr;  // nullptr: prepare_step first
         std::size_t n = 0;                     // particles when prepared
         std::size_t block = 0;                 // particles per block
+        bool none_pinned = false;              // no particle pinned when prepared (StepArrays::none_pinned)
         StepArrays whole;                      // the arrays of the one block, when 0 < n <= block
     };
     PreparedStep prepared_;

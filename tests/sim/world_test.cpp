@@ -171,23 +171,31 @@ INSTANTIATE_TEST_SUITE_P(All, Widths, testing::ValuesIn([] {
                          [](const auto& info) { return std::string(integrator_info(info.param).name); });
 
 // Backward Euler on gravity and one linear drag solves its diagonal system
-// particle by particle (integrators.cpp); a zero-stiffness spring makes the
-// same system coupled, solved through the sparse LDLᵀ. Same bits; with a
-// second drag or quadratic drag it must take the sparse path.
+// particle by particle (backward_euler.cpp); a zero-stiffness spring makes the
+// same system coupled, solved through the sparse LDLᵀ. Same bits, with
+// pinned particles and without (the diagonal solve then leaves their
+// factor out); with a second drag or quadratic drag it must take the sparse
+// path.
 TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
-    for (double c : {0.0, 0.05}) {
-        ParticleModel model = cloud(false);
-        model.forces = {UniformGravity{}, LinearDrag{c}};
-        ParticleModel coupled = model;
-        coupled.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
-        World diagonal(model), sparse(coupled);
-        for (int i = 0; i < 20; ++i) {
-            diagonal.step({Integrator::backward_euler, 1.0 / 60.0, 2});
-            sparse.step({Integrator::backward_euler, 1.0 / 60.0, 2});
+    for (const bool pins : {true, false}) {
+        for (double c : {0.0, 0.05}) {
+            ParticleModel model = cloud(false);
+            if (!pins) {
+                for (ParticleDef& p : model.particles) p.pinned = false;
+            }
+            model.forces = {UniformGravity{}, LinearDrag{c}};
+            ParticleModel coupled = model;
+            coupled.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
+            World diagonal(model), sparse(coupled);
+            for (int i = 0; i < 20; ++i) {
+                diagonal.step({Integrator::backward_euler, 1.0 / 60.0, 2});
+                sparse.step({Integrator::backward_euler, 1.0 / 60.0, 2});
+            }
+            const std::string what = std::string("c = ") + std::to_string(c) + " N·s/m" + (pins ? ", pins" : "");
+            EXPECT_EQ(diagonal.state().x.raw(), sparse.state().x.raw()) << what << ", bit-exact";
+            EXPECT_EQ(diagonal.state().v.raw(), sparse.state().v.raw()) << what << ", bit-exact";
+            EXPECT_EQ(diagonal.force_evaluations(), sparse.force_evaluations());
         }
-        EXPECT_EQ(diagonal.state().x.raw(), sparse.state().x.raw()) << "c = " << c << " N·s/m, bit-exact";
-        EXPECT_EQ(diagonal.state().v.raw(), sparse.state().v.raw()) << "c = " << c << " N·s/m, bit-exact";
-        EXPECT_EQ(diagonal.force_evaluations(), sparse.force_evaluations());
     }
 }
 
