@@ -177,9 +177,10 @@ void scale_by_inverse_mass(double* __restrict a0, double* __restrict a1, double*
 }
 
 // a = M⁻¹ f(x, v) for a FewSprings force on the particles [first, first +
-// x.n), x.n <= kFewSpringParticles (mass and inv_mass: the block's): the field's force (or 0), then the
-// springs in list order (accumulate's reference loop), then M⁻¹, one
-// particle at a time: the general path's operations on each particle.
+// x.n), x.n <= kFewSpringParticles (mass and inv_mass: the block's): the
+// field's force (or 0), then the springs in list order (accumulate's
+// reference loop), then M⁻¹, one particle at a time: the general path's
+// operations on each particle.
 [[gnu::always_inline]] inline void few_spring_acceleration(const FewSprings& few, double t, std::size_t first,
                                                            const ConstVec3Span& x, const ConstVec3Span& v,
                                                            const double* mass, const double* inv_mass,

@@ -186,12 +186,12 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // 20 more particles that never touch them) take the array paths: each of the
 // few must end with the same bits, for every explicit method, with and
 // without a field (linear drag alone, or with quadratic drag), dampers, on
-// one bead (RK4's two-particle build, the spring pair; its spring listed from the
-// anchor, or to it with a rest length and a damper, or both springs), two
-// free particles on one spring, a bead on a plastic spring, two beads, and a
-// chain of more particles and
-// springs than the straight evaluation takes (RK4's stack path with the
-// spring plan's pass). Bits, not values: -0 is not +0 here.
+// one bead (RK4's two-particle build, the spring pair; its spring listed
+// from the anchor, or to it with a rest length and a damper, or both
+// springs), two free particles on one spring, a bead on a plastic spring,
+// two beads, and a chain of more particles and springs than the straight
+// evaluation takes (RK4's stack path with the spring plan's pass). Bits, not
+// values: -0 is not +0 here.
 enum class FewField { none, linear_drag, quadratic_drag };
 enum class FewShape { one_bead, one_bead_reversed, one_bead_two_springs, free_pair, plastic_bead, two_beads, chain };
 
