@@ -49,8 +49,7 @@ float shadow_factor(vec3 world, vec3 n) {
     return lit * 0.25;
 }
 
-vec3 shade(vec3 base_srgb, vec3 world, vec3 n, float specular_scale) {
-    vec3 base = to_linear(base_srgb);
+vec3 shade_linear(vec3 base, vec3 world, vec3 n, float specular_scale) {
     vec3 v = u_ortho ? -u_forward : normalize(u_eye - world);
     if (dot(n, v) < 0.0) n = -n;  // both faces lit (cloth)
     vec3 l = -u_light_dir;
@@ -60,6 +59,9 @@ vec3 shade(vec3 base_srgb, vec3 world, vec3 n, float specular_scale) {
     float sky = 0.5 + 0.5 * n.y;  // hemisphere: full ambient facing up, 60% facing down
     vec3 color = base * u_ambient * mix(0.6, 1.0, sky) + lit * (base * u_intensity * ndl + vec3(spec));
     return to_srgb(color);
+}
+vec3 shade(vec3 base_srgb, vec3 world, vec3 n, float specular_scale) {
+    return shade_linear(to_linear(base_srgb), world, n, specular_scale);
 }
 )";
 
@@ -136,7 +138,7 @@ void main() {
     vec3 p = c + (a_corner.x * u + a_corner.y * v) * (s + 2.0 * pixel);
     v_world = p;
     v_sphere = a_sphere;
-    v_color = a_color;
+    v_color = vec4(to_linear(a_color.rgb), a_color.a);
     gl_Position = u_view_proj * vec4(p, 1.0);
 }
 )";
@@ -165,7 +167,7 @@ void main() {
     vec4 clip = u_view_proj * vec4(hit, 1.0);
     gl_FragDepth = clamp(clip.z / clip.w * 0.5 + 0.5, 0.0, 1.0);
     if (u_depth_only) { o_color = vec4(0.0); return; }
-    vec3 color = shade(v_color.rgb, hit, (hit - c) / r, 1.0);
+    vec3 color = shade_linear(v_color.rgb, hit, (hit - c) / r, 1.0);
     o_color = vec4(color, ghost ? v_color.a * coverage : (u_multisample ? coverage : 1.0));
 }
 )";
