@@ -45,7 +45,7 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
                              StepArrays::Watch* __restrict watch) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c;
     const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
-    std::size_t count = 0;  // a count, not a bool: the loop stays vectorised
+    std::size_t passed = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         const FieldForce f = field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
         // A pinned particle's right-hand side is zero (its row the identity
@@ -59,9 +59,9 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
         x0[i] += h * v0[i];
         x1[i] += h * v1[i];
         x2[i] += h * v2[i];
-        if constexpr (kWatch) count += is_suspect(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
+        if constexpr (kWatch) passed += passes(x0[i], x1[i], x2[i], v0[i], v1[i], v2[i], max_speed2, box);
     }
-    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
+    if constexpr (kWatch) watch->suspects += n - passed, watch->counted = true;
 }
 
 }  // namespace

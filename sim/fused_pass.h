@@ -61,7 +61,7 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
                 const UniformField& field, Rule rule, StepArrays::Watch* __restrict watch) {
     const double gx = field.g.x(), gy = field.g.y(), gz = field.g.z(), c = field.c, c2 = field.c2;
     const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
-    std::size_t count = 0;  // a count, not a bool, as in the watchdog's own loop: it stays vectorised
+    std::size_t passed = 0;  // a count, not a bool, as in the watchdog's own loop: it stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         P3 x{x0[i], x1[i], x2[i]};
         P3 v{v0[i], v1[i], v2[i]};
@@ -72,9 +72,9 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
         x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
         v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
         if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
-        if constexpr (kWatch) count += is_suspect(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
+        if constexpr (kWatch) passed += passes(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
     }
-    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
+    if constexpr (kWatch) watch->suspects += n - passed, watch->counted = true;
 }
 
 // Runs `rule` on every particle of the block when the force is a uniform
@@ -115,7 +115,7 @@ void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict
                 double* __restrict m2, const double* __restrict a0, const double* __restrict a1,
                 const double* __restrict a2, std::size_t n, Rule rule, StepArrays::Watch* __restrict watch) {
     const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
-    std::size_t count = 0;
+    std::size_t passed = 0;
     for (std::size_t i = 0; i < n; ++i) {
         P3 x{x0[i], x1[i], x2[i]};
         P3 v{v0[i], v1[i], v2[i]};
@@ -125,9 +125,9 @@ void given_loop(double* __restrict x0, double* __restrict x1, double* __restrict
         x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
         v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
         if constexpr (kMemory) m0[i] = memory.x, m1[i] = memory.y, m2[i] = memory.z;
-        if constexpr (kWatch) count += is_suspect(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
+        if constexpr (kWatch) passed += passes(x.x, x.y, x.z, v.x, v.y, v.z, max_speed2, box);
     }
-    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
+    if constexpr (kWatch) watch->suspects += n - passed, watch->counted = true;
 }
 
 // Runs `rule` on every particle of the block with the acceleration `a`

@@ -60,14 +60,14 @@ void kick_loop(double* __restrict v0, double* __restrict v1, double* __restrict 
                const double* __restrict a1, const double* __restrict a2, std::size_t n, double alpha,
                StepArrays::Watch* __restrict watch) {
     const double max_speed2 = kWatch ? watch->max_speed2 : 0.0;
-    std::size_t count = 0;  // a count, not a bool: the loop stays vectorised
+    std::size_t passed = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
         v0[i] += alpha * a0[i];
         v1[i] += alpha * a1[i];
         v2[i] += alpha * a2[i];
-        if constexpr (kWatch) count += is_suspect_velocity(v0[i], v1[i], v2[i], max_speed2);
+        if constexpr (kWatch) passed += passes_velocity(v0[i], v1[i], v2[i], max_speed2);
     }
-    if constexpr (kWatch) watch->suspects += count, watch->counted = true;
+    if constexpr (kWatch) watch->suspects += n - passed, watch->counted = true;
 }
 void last_kick(const StepArrays& s, double alpha, const Vec3Span& a) {
     auto run = [&](auto watch_constant) {
@@ -86,13 +86,13 @@ void kick_drift_loop(double* __restrict x0, double* __restrict x1, double* __res
                      const double* __restrict a1, const double* __restrict a2, std::size_t n, double h,
                      StepArrays::Watch* __restrict watch) {
     const double box = kWatch ? watch->box : 0.0;
-    std::size_t count = 0;
+    std::size_t passed = 0;
     for (std::size_t i = 0; i < n; ++i) {
         v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
         x0[i] += h * v0[i], x1[i] += h * v1[i], x2[i] += h * v2[i];
-        if constexpr (kWatch) count += is_suspect_position(x0[i], x1[i], x2[i], box);
+        if constexpr (kWatch) passed += passes_position(x0[i], x1[i], x2[i], box);
     }
-    if constexpr (kWatch) watch->suspects += count;
+    if constexpr (kWatch) watch->suspects += n - passed;
 }
 
 // Velocity Verlet's first half: the predicted velocity w = v + h a (when
@@ -105,16 +105,16 @@ void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double
                             double* __restrict w1, double* __restrict w2, std::size_t n, double h,
                             StepArrays::Watch* __restrict watch) {
     const double box = kWatch ? watch->box : 0.0;
-    std::size_t count = 0;
+    std::size_t passed = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if constexpr (kPredict) w0[i] = v0[i] + h * a0[i], w1[i] = v1[i] + h * a1[i], w2[i] = v2[i] + h * a2[i];
         x0[i] += h * v0[i] + 0.5 * h * h * a0[i];
         x1[i] += h * v1[i] + 0.5 * h * h * a1[i];
         x2[i] += h * v2[i] + 0.5 * h * h * a2[i];
         v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
-        if constexpr (kWatch) count += is_suspect_position(x0[i], x1[i], x2[i], box);
+        if constexpr (kWatch) passed += passes_position(x0[i], x1[i], x2[i], box);
     }
-    if constexpr (kWatch) watch->suspects += count;
+    if constexpr (kWatch) watch->suspects += n - passed;
 }
 
 // Fills s.a with a(t, x, v) unless it still holds it from the last step.

@@ -59,23 +59,31 @@ struct Verdict {
     std::string message(std::string_view scene) const;
 };
 
-// The per-particle rules for one particle at x, v: true when a coordinate is
-// not finite, the speed² is above max_speed2 or a coordinate is beyond ±box.
-// (NaN fails every comparison, so !(a <= b) catches it.) Split in two for a
-// method whose passes leave x and v final in different loops (Verlet's):
-// each loop counts its half, and a particle may count twice (a count of
-// failed rules, 0 exactly when every particle passes).
-inline int is_suspect_position(double x, double y, double z, double box) {
-    // | on ints, not ||: no branch, so the counting loop stays vectorised.
-    return static_cast<int>(!(std::abs(x) <= box)) | static_cast<int>(!(std::abs(y) <= box)) |
-           static_cast<int>(!(std::abs(z) <= box));
+// The per-particle rules for one particle at x, v: it passes (1) when every
+// coordinate is finite and within ±box and the speed² at most max_speed2
+// (NaN fails every comparison, so a <= b is false for it); it is a suspect
+// otherwise. Split in two for a method whose passes leave x and v final in
+// different loops (Verlet's): each loop counts its half.
+//
+// The vectorised loops count passes and take suspects as the particles less
+// the passes (0 exactly when every particle passes; with a split method, a
+// particle may count twice). Counting the failures instead negates every
+// mask, an instruction more for each four particles: 2-3% of backward
+// Euler's step on 1e5 particles (150-153 against 147-149 µs, alternated).
+inline int passes_position(double x, double y, double z, double box) {
+    // & on ints, not &&: no branch, so the counting loop stays vectorised.
+    return static_cast<int>(std::abs(x) <= box) & static_cast<int>(std::abs(y) <= box) &
+           static_cast<int>(std::abs(z) <= box);
 }
-inline int is_suspect_velocity(double vx, double vy, double vz, double max_speed2) {
+inline int passes_velocity(double vx, double vy, double vz, double max_speed2) {
     const double speed2 = vx * vx + vy * vy + vz * vz;
-    return static_cast<int>(!(speed2 <= max_speed2));
+    return static_cast<int>(speed2 <= max_speed2);
+}
+inline int passes(double x, double y, double z, double vx, double vy, double vz, double max_speed2, double box) {
+    return passes_velocity(vx, vy, vz, max_speed2) & passes_position(x, y, z, box);
 }
 inline bool is_suspect(double x, double y, double z, double vx, double vy, double vz, double max_speed2, double box) {
-    return (is_suspect_velocity(vx, vy, vz, max_speed2) | is_suspect_position(x, y, z, box)) != 0;
+    return passes(x, y, z, vx, vy, vz, max_speed2, box) == 0;
 }
 
 // The per-particle rules' quick pass over a block: how many particles have a
