@@ -60,12 +60,13 @@ struct StepArrays {
     // out what only a pinned particle needs (backward Euler's zero right-hand
     // side). False when unknown.
     bool none_pinned = false;
-    // The watchdog's per-particle rules (sim/watchdog.h, is_suspect), when the
+    // The watchdog's per-particle rules (sim/watchdog.h, passes), when the
     // World asks for them: a method's last pass over the block (the fused
     // pass of a uniform field, the Euler and Verlet methods' last loop, RK4's
     // few-particle step pass, backward Euler's diagonal solve) applies them
-    // to each particle it leaves, adds the count to watch->suspects and sets
-    // watch->counted, instead of the World's pass over the block afterwards.
+    // to each particle it leaves, adds the particles that fail to
+    // watch->suspects and sets watch->counted, instead of the World's pass
+    // over the block afterwards.
     // Other paths leave it untouched, and the World counts.
     struct Watch {
         double max_speed2 = 0.0;   // m²/s²
