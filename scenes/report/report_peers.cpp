@@ -327,11 +327,14 @@ BatchResult measure_batch(std::string_view problem, sim::Integrator ours, std::s
     };
 
     // A run covers the problem's span, or as many more steps as make it last
-    // min_seconds (the ballistic shot's at most kBallisticSpan); then as many
-    // runs to a repetition as make it last min_seconds, from the time of a
-    // run of each side once warm.
+    // min_seconds (the ballistic shot's at most kBallisticSpan; the damped
+    // oscillator's at most its span: longer, its copies decay to nothing and
+    // the batch's errors with them); then as many runs to a repetition as
+    // make it last min_seconds, from the time of a run of each side once warm.
     long steps = std::max(1L, std::lround(end / dt));
-    const long most = problem == "ballistic" ? std::lround(kBallisticSpan / dt) : std::numeric_limits<long>::max() / 4;
+    const long most = problem == "ballistic" ? std::lround(kBallisticSpan / dt)
+                      : problem == "damped"  ? steps
+                                             : std::numeric_limits<long>::max() / 4;
     time_ours(steps, 1);  // warm-up: the first run's caches and allocations
     double run_ours = time_ours(steps, 1);
     while (run_ours < timing.min_seconds && steps < most) {
