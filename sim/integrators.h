@@ -66,8 +66,8 @@ struct StepArrays {
     // few-particle step pass, backward Euler's diagonal solve) applies them
     // to each particle it leaves, adds the particles that fail to
     // watch->suspects and sets watch->counted, instead of the World's pass
-    // over the block afterwards.
-    // Other paths leave it untouched, and the World counts.
+    // over the block afterwards. Other paths leave it untouched, and the
+    // World counts.
     struct Watch {
         double max_speed2 = 0.0;   // m²/s²
         double box = 0.0;          // m, the world box's half extent
