@@ -339,7 +339,7 @@ void World::step(const StepSettings& settings) {
 }
 
 void World::plan_next_sample() {
-    constexpr std::uint64_t kFirstFrames = 8;  // always timed
+    constexpr std::uint64_t kFirstFrames = 1;  // always timed
     constexpr double kTimerShare = 0.01;       // the clocks' cost at most this share of the time measured
     if (times_.sampled_frames < kFirstFrames) {
         next_sample_ = frames_ + 1;

@@ -126,8 +126,8 @@ public:
 
     // Wall time per system, measured on a sample of frames, not on every
     // one: a clock read costs about 25 ns, as much as a whole step of a
-    // one-particle problem. Every frame is timed at first (the first 8), then
-    // as often as keeps the clocks' own cost under 1% of the time measured
+    // one-particle problem. The first frame is timed, then as often as
+    // keeps the clocks' own cost under 1% of the time measured
     // (every frame of a 10 µs step, one in about 200 of a 50 ns one). A
     // sampled frame reads the clock between its stages, and the cost of one
     // read (calibrated once) is taken off each interval. Divide by

@@ -286,7 +286,7 @@ Command add_run(CLI::App& app) {
                     "replay it, reporting the first frame whose state differs (exit 1)");
     run->add_flag("--json", args->json,
                   "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
-                  "of frames (every frame at first, then enough to keep the clocks under 1% of the step; a step "
+                  "of frames (the first, then enough to keep the clocks under 1% of the step; a step "
                   "under a microsecond reads longer than it runs, the clock reads stopping its overlap with the "
                   "next: bench_sim times those)");
     return {run, [args] { return run_scene(*args); }};

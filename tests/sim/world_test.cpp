@@ -249,16 +249,16 @@ TEST(Watchdog, ChecksInsideTheIntegratorsPassFindWhatTheFullPassFinds) {
     }
 }
 
-// The per-system times are measured on a sample of frames: every one of the
-// first 8, then few for a light step (the clocks would cost as much as the
-// step), every one for a heavy step. What the timing reports is per sampled
+// The per-system times are measured on a sample of frames: the first, then
+// few for a light step (the clocks would cost as much as the step), every
+// one for a heavy step. What the timing reports is per sampled
 // step; it never changes the physics (same bits with the frames timed or not).
 TEST(Timing, SamplesFewFramesOfALightStepAndEveryFrameOfAHeavyOne) {
     World light(oscillator_model({}, Vec3(1.0, 0.0, 0.0), Vec3::Zero()));
     for (int i = 0; i < 20000; ++i) light.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
     const World::SystemTimes& t = light.times();
-    EXPECT_GE(t.sampled_frames, 8u);
-    EXPECT_LT(t.sampled_frames, 20000u / 4) << "a ~50 ns step is not timed every frame";
+    EXPECT_GE(t.sampled_frames, 20u) << "the first frame, and more as the run goes on";
+    EXPECT_LT(t.sampled_frames, 20000u / 20) << "a ~50 ns step is not timed every frame";
     EXPECT_EQ(t.sampled_steps, t.sampled_frames) << "one step per frame";
     EXPECT_GT(t.ms_per_step(t.total), 0.0);
     EXPECT_GE(t.ms_per_step(t.total), t.ms_per_step(t.particles)) << "the whole step includes its stages";
