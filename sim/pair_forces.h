@@ -30,28 +30,39 @@ struct PairGravity {
 
 namespace pair {
 
+// kStill: a particle whose acceleration the caller does not need (RK4's
+// pinned anchor at rest, sim/runge_kutta.cpp), left out; -1: none.
+
 // The field's force on particles 0 and 1 (or 0), N: where each sum starts.
 struct PairForce {
     FieldForce p0{0.0, 0.0, 0.0}, p1{0.0, 0.0, 0.0};
 };
-template <class Components>
+template <int kStill = -1, class Components>
 [[gnu::always_inline]] inline PairForce field(const UniformField* field, const Components& v, const double* mass) {
     if (field == nullptr) return {};
     auto both = [&](auto quadratic) {
         constexpr bool kQuadratic = decltype(quadratic)::value;
         const UniformField& g = *field;
-        return PairForce{
-            field_force<kQuadratic>(mass[0], v[0][0], v[1][0], v[2][0], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2),
-            field_force<kQuadratic>(mass[1], v[0][1], v[1][1], v[2][1], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2)};
+        auto one = [&](int p) {
+            return field_force<kQuadratic>(mass[p], v[0][p], v[1][p], v[2][p], g.g.x(), g.g.y(), g.g.z(), g.c, g.c2);
+        };
+        PairForce f;
+        if constexpr (kStill != 0) f.p0 = one(0);
+        if constexpr (kStill != 1) f.p1 = one(1);
+        return f;
     };
     return field->c2 != 0.0 ? both(std::true_type{}) : both(std::false_type{});
 }
 
 // a = M⁻¹ f, written once.
-template <class Components>
+template <int kStill = -1, class Components>
 [[gnu::always_inline]] inline void store(const PairForce& f, const double* inv_mass, Components& a) {
-    a[0][0] = f.p0.x * inv_mass[0], a[1][0] = f.p0.y * inv_mass[0], a[2][0] = f.p0.z * inv_mass[0];
-    a[0][1] = f.p1.x * inv_mass[1], a[1][1] = f.p1.y * inv_mass[1], a[2][1] = f.p1.z * inv_mass[1];
+    if constexpr (kStill != 0) {
+        a[0][0] = f.p0.x * inv_mass[0], a[1][0] = f.p0.y * inv_mass[0], a[2][0] = f.p0.z * inv_mass[0];
+    }
+    if constexpr (kStill != 1) {
+        a[0][1] = f.p1.x * inv_mass[1], a[1][1] = f.p1.y * inv_mass[1], a[2][1] = f.p1.z * inv_mass[1];
+    }
 }
 
 // Spring s's pull, listed from particle kI to the other: kI's sum gets + g,
@@ -69,17 +80,17 @@ template <int kI, class In>
 }
 
 // One spring (accumulate's reference loop on one spring), listed either way.
-template <class In, class Out>
+template <int kStill = -1, class In, class Out>
 [[gnu::always_inline]] inline void spring_acceleration(const SpringPair& pair, const In& x, const In& v,
                                                        const double* mass, const double* inv_mass, Out& a) {
-    PairForce f = field(pair.field, v, mass);
+    PairForce f = field<kStill>(pair.field, v, mass);
     const Spring& s = *pair.spring;
     if (s.i == 0) {
         spring_pull_from<0>(s, x, v, f.p0, f.p1);
     } else {
         spring_pull_from<1>(s, x, v, f.p1, f.p0);
     }
-    store(f, inv_mass, a);
+    store<kStill>(f, inv_mass, a);
 }
 
 // Newton's gravity between the two (accumulate's loop on one pair): 0 gets

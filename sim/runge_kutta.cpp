@@ -10,7 +10,10 @@
 #include "sim/pair_forces.h"
 #include "sim/watchdog.h"
 
+#include <bit>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <type_traits>
 #include <utility>
@@ -166,12 +169,14 @@ constexpr std::size_t kFew = StepArrays::kFewParticles;
 template <std::size_t kN>                        // kN particles (0: up to kFew)
 using FewArray = double[3][kN > 0 ? kN : kFew];  // one stage's values, component by component
 
-// Stage I's X_I and V_I (stage J's velocity is the state's where J is).
-template <const auto& kTableau, std::size_t kN, std::size_t I, std::size_t... J>
+// Stage I's X_I and V_I (stage J's velocity is the state's where J is),
+// but for particle kStill (-1: none), which stays where still_particle says.
+template <const auto& kTableau, std::size_t kN, std::size_t I, int kStill = -1, std::size_t... J>
 void few_stage(const StepArrays& s, FewArray<kN>& X, FewArray<kN>* V, const FewArray<kN>* A, double h,
                std::index_sequence<J...>) {
     const std::size_t n = kN > 0 ? kN : s.x.n;
     for (std::size_t p = 0; p < n; ++p) {
+        if (static_cast<int>(p) == kStill) continue;
         for (int k = 0; k < 3; ++k) {
             double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
             ((kTableau.a[I][J] != 0.0
@@ -185,28 +190,112 @@ void few_stage(const StepArrays& s, FewArray<kN>& X, FewArray<kN>* V, const FewA
     }
 }
 
+inline bool all_finite(const double (&values)[2][3]) {
+    bool finite = true;
+    for (const auto& row : values)
+        for (double d : row) finite = finite && std::isfinite(d);
+    return finite;
+}
+
 // The step, x' = x + Σ_i (h b_i) V_i and v' = v + Σ_i (h b_i) A_i, with the
-// watchdog's per-particle rules on each particle it leaves.
-template <const auto& kTableau, std::size_t kN, std::size_t... I>
-void few_step(const StepArrays& s, const FewArray<kN>* V, const FewArray<kN>* A, double h, std::index_sequence<I...>) {
+// watchdog's per-particle rules on each particle it leaves (particle kStill
+// as it is). With a still particle, nothing is written unless the other's
+// x' and v' are finite (false: see still_particle).
+template <const auto& kTableau, std::size_t kN, int kStill = -1, std::size_t... I>
+bool few_step(const StepArrays& s, const FewArray<kN>* V, const FewArray<kN>* A, double h, std::index_sequence<I...>) {
     std::size_t suspects = 0;
     const std::size_t n = kN > 0 ? kN : s.x.n;
     for (std::size_t p = 0; p < n; ++p) {
         double next[2][3];  // x', v'
         for (int k = 0; k < 3; ++k) {
             double Xp = s.x.c[k][p], Vp = s.v.c[k][p];
-            ((Xp += (h * kTableau.b[I]) * (stage_is_state<kTableau>(I) ? s.v.c[k][p] : V[I][k][p]),
-              Vp += (h * kTableau.b[I]) * A[I][k][p]),
-             ...);
-            s.x.c[k][p] = next[0][k] = Xp;
-            s.v.c[k][p] = next[1][k] = Vp;
+            if (static_cast<int>(p) != kStill) {
+                ((Xp += (h * kTableau.b[I]) * (stage_is_state<kTableau>(I) ? s.v.c[k][p] : V[I][k][p]),
+                  Vp += (h * kTableau.b[I]) * A[I][k][p]),
+                 ...);
+            }
+            next[0][k] = Xp, next[1][k] = Vp;
         }
+        if constexpr (kStill >= 0) {
+            if (static_cast<int>(p) != kStill && !all_finite(next)) return false;
+        }
+        for (int k = 0; k < 3; ++k) s.x.c[k][p] = next[0][k], s.v.c[k][p] = next[1][k];
         if (s.watch != nullptr) {
             suspects += is_suspect(next[0][0], next[0][1], next[0][2], next[1][0], next[1][1], next[1][2],
                                    s.watch->max_speed2, s.watch->box);
         }
     }
     if (s.watch != nullptr) s.watch->suspects += suspects, s.watch->counted = true;
+    return true;
+}
+
+// A particle of the pair that every stage and the step leave exactly where
+// it is, so that RK4 need not compute it (a bead's pinned anchor: a
+// quarter of the pair's arithmetic); -1 where neither is. Pinned (inverse
+// mass 0), at rest (each velocity component +0), no position component -0
+// (x + (+0) is +0 there), and the field's force on it finite. Its stage
+// accelerations are then f 0 = ±0, so its stage velocities stay +0 and its
+// positions x, for any tableau, as long as the spring's pull is finite in
+// every stage. Where a pull is not, the other particle's acceleration is
+// not finite either (field - pull, times an inverse mass >= 0), nor its v'
+// (every b_i is non-zero): few_step writes nothing and the step is taken
+// again with both particles, whose anchor goes NaN as it does on the
+// general few-particle path (sampled frames take that one).
+template <const auto& kTableau>
+int still_particle(const StepArrays& s, const SpringPair& pair, const double* mass, const double* inv_mass) {
+    constexpr bool kEveryB = [] {
+        for (double b : kTableau.b)
+            if (b == 0.0) return false;
+        return true;
+    }();
+    if constexpr (!kEveryB) return -1;
+    for (int p = 0; p < 2; ++p) {
+        if (inv_mass[p] != 0.0) continue;
+        bool still = true;
+        for (int k = 0; k < 3; ++k) {
+            const double x = s.x.c[k][p];
+            still = still && std::bit_cast<std::uint64_t>(s.v.c[k][p]) == 0 && !(x == 0.0 && std::signbit(x));
+        }
+        if (still && pair.field != nullptr) {
+            const UniformField& g = *pair.field;
+            const FieldForce f = field_force<false>(mass[p], 0.0, 0.0, 0.0, g.g.x(), g.g.y(), g.g.z(), g.c, 0.0);
+            still = std::isfinite(f.x) && std::isfinite(f.y) && std::isfinite(f.z);
+        }
+        if (still) return p;
+    }
+    return -1;
+}
+
+// A spring pair's stage I: X_I and V_I, then the force inline.
+template <const auto& kTableau, std::size_t I, int kStill>
+[[gnu::always_inline]] inline void pair_stage(const StepArrays& s, const SpringPair& pair, const double* mass,
+                                              const double* inv_mass, FewArray<2>& X, FewArray<2>* V, FewArray<2>* A,
+                                              double h) {
+    if constexpr (stage_is_state<kTableau>(I)) {
+        pair::spring_acceleration<kStill>(pair, s.x.c, s.v.c, mass, inv_mass, A[I]);
+    } else {
+        few_stage<kTableau, 2, I, kStill>(s, X, V, A, h, std::make_index_sequence<I>{});
+        pair::spring_acceleration<kStill>(pair, X, V[I], mass, inv_mass, A[I]);
+    }
+}
+
+// A step of one spring between two particles (a bead on its anchor), the
+// stages on the stack and the force inline, so that no stage leaves the
+// registers (sim/pair_forces.h), with particle kStill (-1: none) left where
+// it is (still_particle). False: nothing was written (few_step).
+template <const auto& kTableau, int kStill, std::size_t... I>
+[[gnu::always_inline]] inline bool pair_step(const StepArrays& s, const SpringPair& pair, const double* mass,
+                                             const double* inv_mass, double h, std::index_sequence<I...>) {
+    constexpr std::size_t S = sizeof...(I);
+    FewArray<2> X, V[S], A[S];  // as few_runge_kutta's
+    if constexpr (kStill >= 0) {
+        for (int k = 0; k < 3; ++k) {
+            X[k][kStill] = s.x.c[k][kStill];
+            for (std::size_t i = 0; i < S; ++i) V[i][k][kStill] = 0.0;
+        }
+    }
+    (pair_stage<kTableau, I, kStill>(s, pair, mass, inv_mass, X, V, A, h), ...);
+    return few_step<kTableau, 2, kStill>(s, V, A, h, std::index_sequence<I...>{});
 }
 
 template <const auto& kTableau, std::size_t kN, std::size_t... I>
@@ -215,22 +304,17 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
     FewArray<kN> X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     const std::size_t n = kN > 0 ? kN : s.x.n;
     if constexpr (kN == 2) {
-        // One spring between the two: the force inline, so that no stage
-        // leaves the registers (sim/pair_forces.h).
+        // One spring between the two: pair_step, with a still particle left
+        // out where there is one.
         if (const SpringPair* pair = dynamics.spring_pair(2)) {
             const double* mass = dynamics.mass() + s.first;
             const double* inv_mass = dynamics.inv_mass() + s.first;
-            auto stage = [&](auto i_constant) {
-                constexpr std::size_t i = decltype(i_constant)::value;
-                if constexpr (stage_is_state<kTableau>(i)) {
-                    pair::spring_acceleration(*pair, s.x.c, s.v.c, mass, inv_mass, A[i]);
-                } else {
-                    few_stage<kTableau, kN, i>(s, X, V, A, h, std::make_index_sequence<i>{});
-                    pair::spring_acceleration(*pair, X, V[i], mass, inv_mass, A[i]);
-                }
-            };
-            (stage(std::integral_constant<std::size_t, I>{}), ...);
-            few_step<kTableau, kN>(s, V, A, h, std::index_sequence<I...>{});
+            using Seq = std::index_sequence<I...>;
+            const int still = still_particle<kTableau>(s, *pair, mass, inv_mass);
+            const bool done = still == 0   ? pair_step<kTableau, 0>(s, *pair, mass, inv_mass, h, Seq{})
+                              : still == 1 ? pair_step<kTableau, 1>(s, *pair, mass, inv_mass, h, Seq{})
+                                           : false;
+            if (!done) pair_step<kTableau, -1>(s, *pair, mass, inv_mass, h, Seq{});
             dynamics.count_evaluations(S * n);
             return;
         }

@@ -188,7 +188,8 @@ void peer_table(std::ostream& md, const Findings& f) {
 const char* kFixedCost =
     "\nThe fixed cost: each of our steps goes through the whole World (`World::step` checks its settings "
     "and runs its stages in turn, the force generators are dispatched over the particle arrays, a "
-    "pinned anchor or centre being a second particle, the integrator makes its passes, the watchdog "
+    "pinned anchor or centre being a second particle (RK4 leaves an anchor at rest out of its "
+    "arithmetic, not of the step), the integrator makes its passes, the watchdog "
     "checks the result), an overhead the same whatever the number of particles; on one particle it is "
     "most of the step, against odeint's one inlined 3-vector, and it is mostly what the one-particle "
     "ratio measures. The batch spreads it over 1000 independent copies of each problem (one World of "

@@ -186,14 +186,24 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
 // 20 more particles that never touch them) take the array paths: each of the
 // few must end with the same bits, for every explicit method, with and
 // without a field (linear drag alone, or with quadratic drag), dampers, on
-// one bead (RK4's two-particle build, the spring pair; its spring listed
-// from the anchor, or to it with a rest length and a damper, or both
-// springs), two free particles on one spring, a bead on a plastic spring,
-// two beads, and a chain of more particles and springs than the straight
-// evaluation takes (RK4's stack path with the spring plan's pass). Bits, not
-// values: -0 is not +0 here.
+// one bead (RK4's two-particle build, the spring pair, which leaves an
+// anchor at rest out; its spring listed from the anchor, or to it with a
+// rest length and a damper, or both springs; the anchor listed second),
+// two free particles on one spring, a bead on a plastic spring, two beads,
+// and a chain of more particles and springs than the straight evaluation
+// takes (RK4's stack path with the spring plan's pass). Bits, not values:
+// -0 is not +0 here.
 enum class FewField { none, linear_drag, quadratic_drag };
-enum class FewShape { one_bead, one_bead_reversed, one_bead_two_springs, free_pair, plastic_bead, two_beads, chain };
+enum class FewShape {
+    one_bead,
+    one_bead_reversed,
+    one_bead_two_springs,
+    anchor_second,
+    free_pair,
+    plastic_bead,
+    two_beads,
+    chain
+};
 
 std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 
@@ -204,6 +214,7 @@ ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     springs.list = {{0, 1, 0.0, 4.0, 0.0}};
     if (shape == FewShape::one_bead_reversed) springs.list = {{1, 0, 0.6, 9.0, 0.3}};
     if (shape == FewShape::one_bead_two_springs) springs.list.push_back({1, 0, 0.6, 9.0, 0.3});
+    if (shape == FewShape::anchor_second) std::swap(model.particles[0], model.particles[1]);
     if (shape == FewShape::free_pair) model.particles[0] = {Vec3(-0.3, 0.1, 0.2), Vec3(0.4, -0.2, 0.3), 2.5, false};
     if (shape == FewShape::plastic_bead) {  // its rest length creeps as it stretches: the pair reads the live spring
         springs.list = {{1, 0, 0.6, 9.0, 0.3}};
@@ -244,6 +255,7 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     const char* shapes[] = {"one bead",
                             "one bead, its spring reversed",
                             "one bead, two springs",
+                            "one bead, the anchor second",
                             "two free particles",
                             "one plastic bead",
                             "two beads",
@@ -251,9 +263,9 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         for (const FewField field : {FewField::none, FewField::linear_drag, FewField::quadratic_drag}) {
-            for (const FewShape shape :
-                 {FewShape::one_bead, FewShape::one_bead_reversed, FewShape::one_bead_two_springs, FewShape::free_pair,
-                  FewShape::plastic_bead, FewShape::two_beads, FewShape::chain}) {
+            for (const FewShape shape : {FewShape::one_bead, FewShape::one_bead_reversed,
+                                         FewShape::one_bead_two_springs, FewShape::anchor_second, FewShape::free_pair,
+                                         FewShape::plastic_bead, FewShape::two_beads, FewShape::chain}) {
                 SCOPED_TRACE(std::string(info.name) + ", " + fields[static_cast<int>(field)] + ", " +
                              shapes[static_cast<int>(shape)]);
                 World few(few_beads(0, field, shape)), many(few_beads(20, field, shape));
@@ -278,9 +290,66 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
                             << "particle " << i << " axis " << k;
                     }
                 }
-                EXPECT_NE(few.state().x.get(1), few.model().particles[1].position) << "it moved";
+                const std::size_t bead = shape == FewShape::anchor_second ? 0 : 1;
+                EXPECT_NE(few.state().x.get(bead), few.model().particles[bead].position) << "it moved";
                 if (shape == FewShape::plastic_bead) {
                     EXPECT_NE(std::get<Springs>(few.live_forces().back()).list[0].rest, 0.6) << "m, it crept";
+                }
+            }
+        }
+    }
+}
+
+// RK4 on a bead and its anchor (one spring, a field) leaves an anchor at
+// rest out of its arithmetic. Against the general few-particle path (a
+// World's sampled frames take it: the spring pass timed on its own), the
+// same bits: the anchor at rest, moving (pinned particles' velocities are
+// 0 in a World, but the step does not assume it) or at -0 on two axes,
+// first or second, the spring listed either way, over 200 steps; and on a
+// step that overflows (a spring of 1e300 N/m), where the general path's
+// anchor goes NaN (f 0), so the pair's must too.
+TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
+    const char* anchors[] = {"at rest", "moving", "at -0"};
+    for (const bool overflow : {false, true}) {
+        for (int anchor_state = 0; anchor_state < 3; ++anchor_state) {
+            for (const bool anchor_second : {false, true}) {
+                for (const bool reversed : {false, true}) {
+                    SCOPED_TRACE(std::string(overflow ? "overflowing" : "200 steps") + ", anchor " +
+                                 anchors[anchor_state] + (anchor_second ? ", second" : ", first") +
+                                 (reversed ? ", spring listed from the bead" : ", spring listed from the anchor"));
+                    const std::uint32_t anchor = anchor_second ? 1 : 0, bead = 1 - anchor;
+                    std::vector<double> mass = {1.0, 1.0}, inv_mass = {1.0, 1.0};
+                    inv_mass[anchor] = 0.0;
+                    Vec3Array x(2), v(2);
+                    x.set(bead, Vec3(1.0, 0.2, 0.0));
+                    v.set(bead, Vec3(0.0, 0.5, 0.1));
+                    if (anchor_state == 1) v.set(anchor, Vec3(0.3, -0.1, 0.0));
+                    if (anchor_state == 2) x.set(anchor, Vec3(-0.0, 0.0, -0.0));
+                    Springs springs;
+                    springs.list = {{anchor, bead, 0.3, overflow ? 1e300 : 4.0, 0.2}};
+                    if (reversed) std::swap(springs.list[0].i, springs.list[0].j);
+                    const std::vector<ForceDef> defs = {UniformGravity{}, LinearDrag{0.05}, springs};
+                    ParticleForces pair(defs, mass, inv_mass), general(defs, mass, inv_mass);
+                    ParticleForces::SpringTime timed;
+                    general.time_springs(&timed);
+                    ASSERT_NE(pair.spring_pair(2), nullptr);
+                    ASSERT_EQ(general.spring_pair(2), nullptr);
+                    Vec3Array x2 = x, v2 = v, w(2);
+                    for (int step = 0; step < (overflow ? 1 : 200); ++step) {
+                        auto arrays = [&](Vec3Array& xs, Vec3Array& vs) {
+                            return StepArrays{.x = xs.span(), .v = vs.span(), .temporaries = &w};
+                        };
+                        rk4(pair, arrays(x, v), 0.01 * step, 0.01);
+                        rk4(general, arrays(x2, v2), 0.01 * step, 0.01);
+                    }
+                    for (std::size_t i = 0; i < 2; ++i) {
+                        for (int k = 0; k < 3; ++k) {
+                            EXPECT_EQ(bits(x.get(i)[k]), bits(x2.get(i)[k])) << "particle " << i << " axis " << k;
+                            EXPECT_EQ(bits(v.get(i)[k]), bits(v2.get(i)[k])) << "particle " << i << " axis " << k;
+                        }
+                    }
+                    EXPECT_EQ(x2.get(anchor).allFinite(), !overflow) << "the general path's anchor: NaN, or finite";
+                    EXPECT_NE(x.get(bead), Vec3(1.0, 0.2, 0.0)) << "it moved";
                 }
             }
         }
