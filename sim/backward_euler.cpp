@@ -66,10 +66,14 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
 
 }  // namespace
 
+bool steps_in_one_pass(Integrator method, const UniformField& field) {
+    return method != Integrator::backward_euler || (field.c2 == 0.0 && field.linear_drags <= 1);
+}
+
 void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
-        field != nullptr && field->c2 == 0.0 && field->linear_drags <= 1) {
+        field != nullptr && steps_in_one_pass(Integrator::backward_euler, *field)) {
         auto run = [&](auto watch_constant, auto pinned_constant) {
             run_at_width(
                 s.wide_loops(),

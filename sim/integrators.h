@@ -42,7 +42,8 @@ inline constexpr std::size_t kMaxScratch = 9;  // temporary arrays the hungriest
 
 // The arrays one step works on: a block of particles [first, first + x.n).
 // The world hands out the whole system, or, when every force is local,
-// consecutive blocks small enough to stay in cache (same result, bit for bit).
+// consecutive blocks small enough to stay in cache where the method makes
+// several passes (same result, bit for bit; steps_in_one_pass).
 struct StepArrays {
     std::size_t first = 0;  // global index of the block's first particle
     Vec3Span x;             // position, m: advanced in place
@@ -108,6 +109,15 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
 void position_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h);
 void rk4(Dynamics& dynamics, const StepArrays& s, double t, double h);
 void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h);
+
+// Whether `method` steps particles whose whole force is `field` in one pass
+// over them: every explicit method (the fused pass, sim/fused_pass.h) and
+// backward Euler where its system is diagonal (gravity and at most one
+// linear drag). The World then steps the system as one block: blocks only
+// pay off where a step makes several passes (RK4's stages on any other
+// force), and on 10⁶ particles their dispatch cost leapfrog and velocity
+// Verlet about a tenth of their one pass.
+bool steps_in_one_pass(Integrator method, const UniformField& field);
 
 inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
     {Integrator::forward_euler, "forward_euler", 1, 1, 1, Memory::none, false,

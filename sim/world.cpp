@@ -487,9 +487,13 @@ void World::prepare_step(Integrator integrator) {
     const IntegratorInfo& info = integrator_info(integrator);
     const std::size_t n = state_.size();
     // Scratch is allocated for the largest block the method will see (the
-    // arrays below scratch_arrays_ already hold scratch_block_ particles).
-    const std::size_t block = forces_.all_local() ? std::min(n, kBlock) : n;
-    if (info.scratch_arrays > scratch_arrays_ || block > scratch_block_) {
+    // arrays below scratch_arrays_ already hold scratch_block_ particles);
+    // a method that steps a uniform field in one pass takes the system as
+    // one block and uses none.
+    const UniformField* field = forces_.uniform_field();
+    const bool one_pass = field != nullptr && steps_in_one_pass(integrator, *field);
+    const std::size_t block = forces_.all_local() && !one_pass ? std::min(n, kBlock) : n;
+    if (!one_pass && (info.scratch_arrays > scratch_arrays_ || block > scratch_block_)) {
         scratch_arrays_ = std::max(scratch_arrays_, info.scratch_arrays);
         scratch_block_ = std::max(scratch_block_, block);
         for (std::size_t i = 0; i < scratch_arrays_; ++i) scratch_[i].resize(scratch_block_);

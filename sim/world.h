@@ -219,9 +219,10 @@ public:
     double force_evaluations() const;
     std::uint64_t steps() const { return steps_; }  // integrator steps (substeps count)
 
-    // Particles per block when every force is local (gravity, drag): the step
-    // then runs block by block, each block's arrays staying in cache (L2 for
-    // RK4's eleven arrays) while the watchdog's quick pass reads it again.
+    // Particles per block when every force is local and the method makes
+    // more than one pass (sim::steps_in_one_pass): the step then runs block
+    // by block, each block's arrays staying in cache (L2 for RK4's eleven
+    // arrays) while the watchdog's quick pass reads it again.
     static constexpr std::size_t kBlock = 1024;
 
 private:
