@@ -106,8 +106,8 @@ BatchRatio batch_ratio(const BatchResult& batch, const std::vector<Sample>& ours
     return r;
 }
 
-PeerRow compare(const PeerSweep& peer, const std::vector<Sample>& sweeps) {
-    const std::vector<Sample> ours = samples_of(sweeps, peer.problem, peer.ours);
+PeerRow compare(const PeerSweep& peer) {
+    const std::vector<Sample>& ours = peer.ours_samples;
     PeerRow row{.peer = peer.peer,
                 .problem = peer.problem,
                 .ours = peer.ours,
@@ -164,7 +164,7 @@ Findings analyse(const Measurements& m) {
     std::vector<Sample> all = m.sweeps;
     all.insert(all.end(), m.frames.begin(), m.frames.end());
     for (const Problem& p : m.problems) f.fronts[p.name] = pareto_front(p.name, all);
-    for (const PeerSweep& peer : m.peers) f.peers.push_back(compare(peer, m.sweeps));
+    for (const PeerSweep& peer : m.peers) f.peers.push_back(compare(peer));
     return f;
 }
 

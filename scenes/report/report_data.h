@@ -120,6 +120,7 @@ struct PeerSweep {
     std::string problem;               // "oscillator"
     std::string ours;                  // the integrator of ours it is compared with
     std::vector<Sample> samples;       // the dt sweep, coarsest first
+    std::vector<Sample> ours_samples;  // ours at the same dt values, each timed just before theirs
     std::optional<BatchResult> batch;  // measured when the peer is timed on the batch
 };
 

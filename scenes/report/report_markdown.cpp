@@ -168,7 +168,8 @@ void budgets(std::ostream& md, const Measurements& m, const Findings& f) {
 void peer_table(std::ostream& md, const Findings& f) {
     md << "## Peers: boost::odeint\n\n"
        << "odeint's steppers on the same problems and dt sweeps (dashed in the plots). The ratio is our cost at "
-          "the same error over theirs (wall time, median over their points; below 1: ours is cheaper).\n\n"
+          "the same error over theirs (wall time, median over their points; below 1: ours is cheaper), each "
+          "point of ours timed again just before theirs at the same dt, so that both see the same load.\n\n"
        << "| peer | compared with | problem | fitted order | our cost / theirs, one particle | batch of 1000 | "
           "ns per copy-step, ours / theirs |\n|---|---|---|---|---|---|---|\n";
     for (const PeerRow& r : f.peers) {
