@@ -287,7 +287,7 @@ template <const auto& kTableau, int kStill, std::size_t... I>
 [[gnu::always_inline]] inline bool pair_step(const StepArrays& s, const SpringPair& pair, const double* mass,
                                              const double* inv_mass, double h, std::index_sequence<I...>) {
     constexpr std::size_t S = sizeof...(I);
-    FewArray<2> X, V[S], A[S];  // as few_runge_kutta's
+    FewArray<2> X, V[S], A[S];  // stage positions, velocities, accelerations, as few_runge_kutta's
     if constexpr (kStill >= 0) {
         for (int k = 0; k < 3; ++k) {
             X[k][kStill] = s.x.c[k][kStill];
@@ -301,7 +301,6 @@ template <const auto& kTableau, int kStill, std::size_t... I>
 template <const auto& kTableau, std::size_t kN, std::size_t... I>
 void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h, std::index_sequence<I...>) {
     constexpr std::size_t S = sizeof...(I);
-    FewArray<kN> X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     const std::size_t n = kN > 0 ? kN : s.x.n;
     if constexpr (kN == 2) {
         // One spring between the two: pair_step, with a still particle left
@@ -319,6 +318,7 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
             return;
         }
     }
+    FewArray<kN> X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     auto span = [&](FewArray<kN>& c) { return Vec3Span(c[0], c[1], c[2], n); };
     auto read = [&](const FewArray<kN>& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
     auto stage = [&](auto i_constant) {
