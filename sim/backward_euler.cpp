@@ -38,6 +38,7 @@ namespace {
 // `watch` (as the explicit methods' passes do: no second pass over the
 // particles). kPinned: the block may hold pinned particles (else their
 // factor is left out, and inv_mass unread: the same bits, x · 1 being x).
+// kVertical: is_vertical(field) (dynamics.h).
 template <bool kWatch, bool kPinned, bool kVertical>
 void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                              double* __restrict v1, double* __restrict v2, const double* __restrict mass,
@@ -47,14 +48,9 @@ void backward_euler_diagonal(double* __restrict x0, double* __restrict x1, doubl
     const double max_speed2 = kWatch ? watch->max_speed2 : 0.0, box = kWatch ? watch->box : 0.0;
     std::size_t passed = 0;  // a count, not a bool: the loop stays vectorised
     for (std::size_t i = 0; i < n; ++i) {
-        // A field along y alone (g.x and g.z zero, the usual gravity): m 0 is
-        // that zero for any mass (finite, > 0), so the force's x and z are
-        // ±0 - c v, and +0 - c v gives the same bits without the product:
-        // the two differ only where c v is +0, in the sign of a zero f, and
-        // v + (±0) is v, or +0 where v is +0 (a v of -0 makes c v -0).
-        // Tested with g of -0 across.
-        const FieldForce f = kVertical ? FieldForce{0.0 - c * v0[i], mass[i] * gy - c * v1[i], 0.0 - c * v2[i]}
-                                       : field_force<false>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
+        // kVertical: gravity straight down, the force's x and z without m 0
+        // (field_force; the same bits).
+        const FieldForce f = field_force<false, kVertical>(mass[i], v0[i], v1[i], v2[i], gx, gy, gz, c, 0.0);
         // A pinned particle's right-hand side is zero (its row the identity
         // in the sparse system: any d > 0 gives the same zero); the factor
         // 1 or 0 keeps the loop free of branches.
@@ -81,7 +77,7 @@ void backward_euler(Dynamics& dynamics, const StepArrays& s, double t, double h)
     const std::size_t n = s.x.n;
     if (const UniformField* field = dynamics.uniform_field();
         field != nullptr && steps_in_one_pass(Integrator::backward_euler, *field)) {
-        const bool vertical = field->g.x() == 0.0 && field->g.z() == 0.0;
+        const bool vertical = is_vertical(*field);
         auto run = [&](auto watch_constant, auto pinned_constant) {
             auto at = [&](auto vertical_constant) {
                 run_at_width(

@@ -23,17 +23,30 @@ struct UniformField {
 // every loop over a field calls. Plain scalars in and out, so that the loops
 // that inline it see nothing that could alias their arrays and vectorise.
 // kQuadratic: c2 may be non-zero (otherwise the square root is skipped).
+// kVertical: the field is along y alone (is_vertical below): m g's x and z
+// are then +0 for every mass (> 0 and finite, as validate_particles asks),
+// and the loop leaves out their two products with the same bits.
 struct FieldForce {
     double x, y, z;  // N
 };
-template <bool kQuadratic>
+template <bool kQuadratic, bool kVertical = false>
 inline FieldForce field_force(double m, double vx, double vy, double vz, double gx, double gy, double gz, double c,
                               double c2) {
     double drag = c;  // N·s/m along -v
     if constexpr (kQuadratic) {
         drag += c2 * std::sqrt(vx * vx + vy * vy + vz * vz);
     }
-    return {m * gx - drag * vx, m * gy - drag * vy, m * gz - drag * vz};
+    if constexpr (kVertical) {
+        return {0.0 - drag * vx, m * gy - drag * vy, 0.0 - drag * vz};
+    } else {
+        return {m * gx - drag * vx, m * gy - drag * vy, m * gz - drag * vz};
+    }
+}
+
+// Whether field_force<kQuadratic, true> gives the field's bits: g's x and z
+// are +0 (not -0, whose m g would be -0), the usual gravity straight down.
+inline bool is_vertical(const UniformField& field) {
+    return !std::signbit(field.g.x()) && field.g.x() == 0.0 && !std::signbit(field.g.z()) && field.g.z() == 0.0;
 }
 
 struct Spring;  // sim/spring.h

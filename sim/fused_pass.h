@@ -35,12 +35,13 @@ inline P3 operator*(double s, P3 a) { return {s * a.x, s * a.y, s * a.z}; }
 
 // The field's acceleration on one particle at velocity v: field_force / m,
 // the same products as ParticleForces' field pass (0 for a pinned particle).
-template <bool kQuadratic>
+// kVertical: is_vertical(field), the two products m 0 left out.
+template <bool kQuadratic, bool kVertical>
 struct FieldAcceleration {
     double gx, gy, gz, c, c2;  // UniformField's g (m/s²), c (N·s/m), c2 (N·s²/m²)
     double m, inv_m;           // this particle's mass, kg, and inverse, 1/kg
     P3 operator()(P3 v) const {
-        const FieldForce f = field_force<kQuadratic>(m, v.x, v.y, v.z, gx, gy, gz, c, c2);
+        const FieldForce f = field_force<kQuadratic, kVertical>(m, v.x, v.y, v.z, gx, gy, gz, c, c2);
         return {f.x * inv_m, f.y * inv_m, f.z * inv_m};
     }
 };
@@ -54,7 +55,7 @@ struct FieldAcceleration {
 // that the memory is not valid and must be rebuilt first. kWatch: the
 // watchdog's per-particle rules on each particle's new x and v, counted into
 // `watch` (StepArrays::watch; they only compare: no bit of the state changes).
-template <bool kQuadratic, bool kMemory, bool kFresh, bool kWatch, class Rule>
+template <bool kQuadratic, bool kVertical, bool kMemory, bool kFresh, bool kWatch, class Rule>
 void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                 double* __restrict v1, double* __restrict v2, double* __restrict m0, double* __restrict m1,
                 double* __restrict m2, const double* __restrict mass, const double* __restrict inv_mass, std::size_t n,
@@ -67,7 +68,7 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
         P3 v{v0[i], v1[i], v2[i]};
         P3 memory{0.0, 0.0, 0.0};
         if constexpr (kMemory) memory = {m0[i], m1[i], m2[i]};
-        rule(x, v, memory, FieldAcceleration<kQuadratic>{gx, gy, gz, c, c2, mass[i], inv_mass[i]},
+        rule(x, v, memory, FieldAcceleration<kQuadratic, kVertical>{gx, gy, gz, c, c2, mass[i], inv_mass[i]},
              std::bool_constant<kFresh>{});
         x0[i] = x.x, x1[i] = x.y, x2[i] = x.z;
         v0[i] = v.x, v1[i] = v.y, v2[i] = v.z;
@@ -79,25 +80,32 @@ void field_loop(double* __restrict x0, double* __restrict x1, double* __restrict
 
 // Runs `rule` on every particle of the block when the force is a uniform
 // field, counting `evaluations` force evaluations per particle; false (and
-// nothing done) otherwise. `memory`: the method's memory span, or an empty one.
+// nothing done) otherwise. `memory`: the method's memory span, or an empty one
+// (then no rule reads `rebuild`, and one build serves fresh steps and later).
 template <bool kQuadratic, bool kMemory, class Rule>
 void field_loop_for(bool fresh, const StepArrays& s, Vec3Span memory, const double* mass, const double* inv_mass,
                     const UniformField& field, Rule rule) {
-    auto run = [&](auto fresh_constant, auto watch_constant) {
+    auto run = [&](auto vertical, auto fresh_constant, auto watch_constant) {
         run_at_width(
             s.wide_loops(),
             [](auto... a) {
-                field_loop<kQuadratic, kMemory, decltype(fresh_constant)::value, decltype(watch_constant)::value, Rule>(
-                    a...);
+                field_loop<kQuadratic, decltype(vertical)::value, kMemory, decltype(fresh_constant)::value,
+                           decltype(watch_constant)::value, Rule>(a...);
             },
             s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], memory.c[0], memory.c[1], memory.c[2], mass,
             inv_mass, s.x.n, field, rule, s.watch);
     };
-    if (s.watch != nullptr) {
-        fresh ? run(std::true_type{}, std::true_type{}) : run(std::false_type{}, std::true_type{});
-    } else {
-        fresh ? run(std::true_type{}, std::false_type{}) : run(std::false_type{}, std::false_type{});
-    }
+    auto with_fresh = [&](auto vertical, auto watch) {
+        if constexpr (kMemory) {
+            fresh ? run(vertical, std::true_type{}, watch) : run(vertical, std::false_type{}, watch);
+        } else {
+            run(vertical, std::false_type{}, watch);
+        }
+    };
+    auto with_watch = [&](auto vertical) {
+        s.watch != nullptr ? with_fresh(vertical, std::true_type{}) : with_fresh(vertical, std::false_type{});
+    };
+    is_vertical(field) ? with_watch(std::true_type{}) : with_watch(std::false_type{});
 }
 
 // The acceleration a force evaluation left in an array, for one particle.

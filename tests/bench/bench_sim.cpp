@@ -1,18 +1,20 @@
 // ns per particle-step of every integrator on a cloud of N free particles
 // (gravity and linear drag, the particle-effect case), N = 1, 1e3, 1e5 and
-// 1e6, three ways in the same run: hand/ a hand-written loop of the method,
-// stage/ the World with its watchdog off (the particles stage: forces and
-// integration), world/ the whole step as a scene runs it. The tables printed
-// at the end are the figures to read (issue 17's targets at N >= 1e5:
-// stage / hand <= 1.1, world / hand <= 1.5, RK4 / symplectic Euler <= 4.5,
-// four force evaluations to one). At N = 1 the ratio is mostly the fixed
-// cost of a step (FixedCost below).
+// 1e6, three ways in one cell (cloud/METHOD/N): a hand-written loop of the
+// method, the particles stage (the World with its watchdog off: forces and
+// integration) and the whole step as a scene runs it, taking turns of about
+// 1e6 particle-steps so that the load of the moment falls on all three
+// (cloud_cell). The tables printed at the end are the figures to read
+// (issue 17's targets at N >= 1e5: stage / hand <= 1.1 for the methods that
+// evaluate forces once a step, world / hand <= 1.5, RK4 / symplectic Euler
+// <= 4.5, four force evaluations to one). At N = 1 the ratio is mostly the
+// fixed cost of a step (FixedCost below).
 //
 // Honest by construction: every kLapSteps steps (10 s simulated) the cloud is
 // put back where it started, outside the timing, so it never leaves the
-// watchdog's world box however many iterations run; the hand loops are put
-// back the same way. After timing, each World benchmark checks that the
-// World still runs and took every step it was asked for (bench_world.h).
+// watchdog's world box however many iterations run; the hand loop is put
+// back the same way. After timing, the cell checks that both Worlds still
+// run and took every step they were asked for (bench_world.h).
 //
 // Also here: FixedCost, one particle on one spring (the report's harmonic
 // oscillator: a pinned anchor and a 1 kg bead), one whole step per iteration
@@ -27,6 +29,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -56,56 +59,6 @@ sim::ParticleModel cloud(std::size_t n) {
     }
     model.forces = {sim::UniformGravity{sim::Vec3(0.0, kGravity, 0.0)}, sim::LinearDrag{kDrag}};
     return model;
-}
-
-// Seconds per particle-step, printed with an SI prefix (1.6n = 1.6 ns).
-void set_counters(benchmark::State& state, std::size_t n) {
-    const double particle_steps = static_cast<double>(state.iterations()) * static_cast<double>(n);
-    state.SetItemsProcessed(static_cast<std::int64_t>(particle_steps));
-    state.counters["per_particle_step"] =
-        benchmark::Counter(particle_steps, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
-}
-
-// Runs step() once per iteration, and reset() (untimed) every kLapSteps.
-template <class Step, class Reset>
-void laps(benchmark::State& state, Step step, Reset reset) {
-    int in_lap = 0;
-    for (auto _ : state) {
-        if (in_lap == kLapSteps) {
-            state.PauseTiming();
-            reset();
-            in_lap = 0;
-            state.ResumeTiming();
-        }
-        step();
-        ++in_lap;
-    }
-}
-
-// --- the library -------------------------------------------------------------------
-
-// watchdog: the whole step as a scene runs it; without, the particles stage
-// alone (forces and integration), which is what a hand loop does.
-void world_cloud(benchmark::State& state, sim::Integrator id, bool watchdog) {
-    const auto n = static_cast<std::size_t>(state.range(0));
-    sim::World world(cloud(n));
-    if (!watchdog) world.set_watchdog({.enabled = false});
-    const sim::ParticleState start = world.state();
-    const sim::StepSettings settings{id, kDt, 1};
-    laps(
-        state,
-        [&] {
-            world.step(settings);
-            benchmark::DoNotOptimize(world.state().x.raw().data());
-            benchmark::ClobberMemory();
-        },
-        [&] {
-            sim::ParticleState& s = world.edit_state();
-            s.x = start.x;
-            s.v = start.v;
-        });
-    if (!bench::still_running(state, world, state.iterations(), "cloud")) return;
-    set_counters(state, n);
 }
 
 // --- hand-written loops -----------------------------------------------------------------
@@ -309,20 +262,106 @@ HandStep hand_step(sim::Integrator id) {
     return nullptr;
 }
 
-void hand_cloud_bench(benchmark::State& state, sim::Integrator id) {
+// --- the three, in turns ------------------------------------------------------------
+
+// Particle-steps in one turn (10⁶: about 2 ms of a hand loop on this machine
+// at any N; one step at N = 10⁶).
+constexpr std::size_t kTurnParticleSteps = 1000000;
+
+// One of a cell's three contestants: its step, its reset to the start, and
+// where it is in its lap (it is put back every kLapSteps steps, untimed).
+template <class Step, class Reset>
+struct Contestant {
+    Step step;
+    Reset reset;
+    int in_lap = 0;
+
+    // Takes `steps` steps; returns the seconds they took (resets not counted).
+    double run(std::size_t steps) {
+        using Clock = std::chrono::steady_clock;
+        double seconds = 0.0;
+        while (steps > 0) {
+            if (in_lap == kLapSteps) reset(), in_lap = 0;
+            const auto now = std::min<std::size_t>(steps, static_cast<std::size_t>(kLapSteps - in_lap));
+            const Clock::time_point start = Clock::now();
+            for (std::size_t i = 0; i < now; ++i) step();
+            seconds += std::chrono::duration<double>(Clock::now() - start).count();
+            in_lap += static_cast<int>(now);
+            steps -= now;
+        }
+        return seconds;
+    }
+};
+template <class Step, class Reset>
+Contestant(Step, Reset) -> Contestant<Step, Reset>;
+
+// A World on the cloud, one step of `settings` a call; watchdog: the whole
+// step as a scene runs it, without: the particles stage alone (forces and
+// integration), which is what a hand loop does.
+auto world_contestant(sim::World& world, const sim::StepSettings& settings, const sim::ParticleState& start) {
+    return Contestant{[&world, &settings] {
+                          world.step(settings);
+                          benchmark::DoNotOptimize(world.state().x.raw().data());
+                          benchmark::ClobberMemory();
+                      },
+                      [&world, &start] {
+                          sim::ParticleState& s = world.edit_state();
+                          s.x = start.x;
+                          s.v = start.v;
+                      }};
+}
+
+// One cell of the tables: the hand loop, the particles stage (a World with
+// its watchdog off) and the whole step (a World with it on) on the same cloud
+// take turns of kTurnParticleSteps particle-steps each, in rotating order,
+// each turn after one untimed step that brings its arrays back into cache. The
+// ratios are of times taken within milliseconds of each other, so that the
+// load of the moment moves both sides alike (separate benchmarks half a
+// second apart moved a ratio at N = 1e5 by a fifth from run to run). Counters:
+// each one's ns per particle-step, and stage/hand, world/hand of the totals.
+void cloud_cell(benchmark::State& state, sim::Integrator id) {
     const auto n = static_cast<std::size_t>(state.range(0));
-    const HandCloud start = hand_cloud(n);
-    HandCloud c = start;
-    const HandStep step = hand_step(id);
-    laps(
-        state,
-        [&] {
-            step(c, kDt);
-            benchmark::DoNotOptimize(c.x.data());
-            benchmark::ClobberMemory();
-        },
-        [&] { c = start; });
-    set_counters(state, n);
+    const std::size_t turn = std::max<std::size_t>(1, kTurnParticleSteps / n);
+    const HandCloud hand_start = hand_cloud(n);
+    HandCloud hand = hand_start;
+    const HandStep hand_step_of = hand_step(id);
+    Contestant by_hand{[&] {
+                           hand_step_of(hand, kDt);
+                           benchmark::DoNotOptimize(hand.x.data());
+                           benchmark::ClobberMemory();
+                       },
+                       [&] { hand = hand_start; }};
+    sim::World stage_world(cloud(n)), whole_world(cloud(n));
+    stage_world.set_watchdog({.enabled = false});
+    const sim::ParticleState start = stage_world.state();
+    const sim::StepSettings settings{id, kDt, 1};
+    auto stage = world_contestant(stage_world, settings, start);
+    auto whole = world_contestant(whole_world, settings, start);
+
+    double seconds[3] = {0.0, 0.0, 0.0};  // hand, stage, whole
+    int first = 0;                        // who goes first this iteration
+    for (auto _ : state) {                // the benchmark's own time: a round of three turns, with their untimed steps
+        for (int k = 0; k < 3; ++k) {
+            const int who = (first + k) % 3;
+            auto take_turn = [&](auto& contestant) {
+                contestant.run(1);  // untimed: the arrays back into cache
+                seconds[who] += contestant.run(turn);
+            };
+            who == 0 ? take_turn(by_hand) : who == 1 ? take_turn(stage) : take_turn(whole);
+        }
+        first = (first + 1) % 3;
+    }
+    const std::uint64_t steps = state.iterations() * (turn + 1);
+    if (!bench::still_running(state, stage_world, steps, "cloud, watchdog off") ||
+        !bench::still_running(state, whole_world, steps, "cloud")) {
+        return;
+    }
+    const double particle_steps = static_cast<double>(state.iterations() * turn) * static_cast<double>(n);
+    state.counters["hand_ns"] = 1e9 * seconds[0] / particle_steps;
+    state.counters["stage_ns"] = 1e9 * seconds[1] / particle_steps;
+    state.counters["world_ns"] = 1e9 * seconds[2] / particle_steps;
+    state.counters["stage/hand"] = seconds[1] / seconds[0];
+    state.counters["world/hand"] = seconds[2] / seconds[0];
 }
 
 // --- the fixed cost ---------------------------------------------------------------------
@@ -402,22 +441,24 @@ constexpr const char* kFixedCostMethods[] = {"symplectic_euler", "velocity_verle
 
 // --- the ratio table --------------------------------------------------------------------
 
-// Prints the usual console table, keeps per_particle_step (per_step for the
-// fixed cost) of every run that did its work, and at the end the ratios the
-// issue's targets are stated in, each of two medians: with
-// --benchmark_repetitions=R (make bench: 3, with
-// --benchmark_enable_random_interleaving, so that a hand loop and its World
-// take turns under the same load) the median of the R repetitions.
+// Prints the usual console table, keeps the counters of every run that did
+// its work, and at the end the ratios the issue's targets are stated in, each
+// the median over --benchmark_repetitions=R (make bench: 3) of a cell's
+// ratio (each repetition's own, of turns taken together: cloud_cell). Only
+// the ratios of the repetitions' counters are medians here: a cell's
+// stage_ns and hand_ns medians need not come from the same repetition.
 class RatioReporter : public benchmark::ConsoleReporter {
 public:
     using ConsoleReporter::ConsoleReporter;
     void ReportRuns(const std::vector<Run>& runs) override {
         for (const Run& run : runs) {
             if (failed(run)) failures_.push_back(run.benchmark_name());
-            if (failed(run) || run.run_type != Run::RT_Iteration) continue;
-            for (const char* name : {"per_particle_step", "per_step"}) {  // a run has one or the other
-                const auto counter = run.counters.find(name);
-                if (counter != run.counters.end()) samples_[run.benchmark_name()].push_back(counter->second.value);
+            // Each repetition, or only their median where the console shows
+            // aggregates alone (--benchmark_report_aggregates_only=true).
+            const bool median_only = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
+            if (failed(run) || (run.run_type != Run::RT_Iteration && !median_only)) continue;
+            for (const auto& [name, counter] : run.counters) {
+                samples_[run.run_name.str() + ":" + name].push_back(counter.value);
             }
         }
         ConsoleReporter::ReportRuns(runs);
@@ -427,30 +468,32 @@ public:
         print_table(
             "The particles stage (World, watchdog off) / hand-written loop, per particle-step\n"
             "(target <= 1.1 at N >= 1e5; at N = 1 it is the fixed cost of a step):",
-            "stage/", sizes);
-        print_table("The whole step (World, watchdog on) / hand-written loop (target <= 1.5 at N >= 1e5):", "world/",
-                    sizes);
+            "stage/hand", sizes);
+        print_table("The whole step (World, watchdog on) / hand-written loop (target <= 1.5 at N >= 1e5):",
+                    "world/hand", sizes);
         std::printf("%-18s", "rk4 / sympl. Euler");  // target <= 4.5: four force evaluations to one
-        for (std::size_t n : sizes) print_ratio("world/", "world/", "rk4", "symplectic_euler", n);
+        for (std::size_t n : sizes) {
+            print_ratio(median(cell("rk4", n) + ":world_ns") / median(cell("symplectic_euler", n) + ":world_ns"));
+        }
         std::printf("\n");
         std::printf(
             "\nThe fixed cost: a whole World step of one bead on one spring, ns, and in steps of the same\n"
             "bead hand-written (the same run; the targets are 50 ns and 120 ns on the machine of the issue):\n");
         for (const char* method : kFixedCostMethods) {
-            const double world = median(std::string("FixedCost/") + method);
-            const double hand = median(std::string("FixedCost/hand_") + method);
-            if (world <= 0.0 || hand <= 0.0) continue;
+            const double world = median(std::string("FixedCost/") + method + ":per_step");
+            const double hand = median(std::string("FixedCost/hand_") + method + ":per_step");
+            if (!(world > 0.0) || !(hand > 0.0)) continue;
             std::printf("%-18s%9.1f ns = %6.1f hand steps of %.1f ns\n", method, 1e9 * world, world / hand, 1e9 * hand);
         }
     }
 
-    void print_table(const char* title, const std::string& ours, const std::vector<std::size_t>& sizes) const {
+    void print_table(const char* title, const std::string& counter, const std::vector<std::size_t>& sizes) const {
         std::printf("\n%s\n%-18s", title, "method");
         for (std::size_t n : sizes) std::printf("%12s", ("N=" + std::to_string(n)).c_str());
         std::printf("\n");
         for (const sim::IntegratorInfo& info : sim::kIntegrators) {
             std::printf("%-18s", std::string(info.name).c_str());
-            for (std::size_t n : sizes) print_ratio(ours, "hand/", info.name, info.name, n);
+            for (std::size_t n : sizes) print_ratio(median(cell(info.name, n) + ":" + counter));
             std::printf("\n");
         }
     }
@@ -467,24 +510,24 @@ private:
             return run.error_occurred;
         }
     }
-    // The median of a benchmark's repetitions, s per particle-step (0: none ran).
+    static std::string cell(std::string_view method, std::size_t n) {
+        return "cloud/" + std::string(method) + "/" + std::to_string(n);
+    }
+    // The median of a counter's repetitions ("NAME:COUNTER"); NaN where none ran.
     double median(const std::string& name) const {
         const auto it = samples_.find(name);
-        if (it == samples_.end() || it->second.empty()) return 0.0;
+        if (it == samples_.end() || it->second.empty()) return std::nan("");
         std::vector<double> v = it->second;
         const std::size_t mid = v.size() / 2;
         std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
         if (v.size() % 2 == 1) return v[mid];
         return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
     }
-    void print_ratio(const std::string& top, const std::string& bottom, std::string_view a, std::string_view b,
-                     std::size_t n) const {
-        const double p = median(top + std::string(a) + "/" + std::to_string(n));
-        const double q = median(bottom + std::string(b) + "/" + std::to_string(n));
-        if (p <= 0.0 || q <= 0.0) {
-            std::printf("%12s", "-");
+    static void print_ratio(double ratio) {
+        if (std::isfinite(ratio)) {
+            std::printf("%12.2f", ratio);
         } else {
-            std::printf("%12.2f", p / q);
+            std::printf("%12s", "-");
         }
     }
     std::map<std::string, std::vector<double>> samples_;
@@ -497,16 +540,9 @@ void register_benchmarks() {
     for (const sim::IntegratorInfo& info : sim::kIntegrators) {
         const std::string name(info.name);
         for (std::size_t n : kSizes) {
-            const auto size = static_cast<std::int64_t>(n);
-            benchmark::RegisterBenchmark(("hand/" + name).c_str(), hand_cloud_bench, info.id)
-                ->Arg(size)
-                ->Unit(benchmark::kMicrosecond);
-            benchmark::RegisterBenchmark(("stage/" + name).c_str(), world_cloud, info.id, false)
-                ->Arg(size)
-                ->Unit(benchmark::kMicrosecond);
-            benchmark::RegisterBenchmark(("world/" + name).c_str(), world_cloud, info.id, true)
-                ->Arg(size)
-                ->Unit(benchmark::kMicrosecond);
+            benchmark::RegisterBenchmark(("cloud/" + name).c_str(), cloud_cell, info.id)
+                ->Arg(static_cast<std::int64_t>(n))
+                ->Unit(benchmark::kMillisecond);
         }
     }
     for (const char* method : kFixedCostMethods) {

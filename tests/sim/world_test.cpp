@@ -80,13 +80,16 @@ TEST(Substeps, AreStepsOfDtOverSubsteps) {
 // Many particles under gravity and drag only: every force is local, so the
 // world steps block by block. Adding a zero-stiffness spring (a coupled force
 // that adds exactly 0) makes it step the whole system at once: the results
-// must be the same bits.
+// must be the same bits. Some particles start with velocity or position
+// components of +0 and -0, where a zero force's sign could show.
 ParticleModel cloud(bool coupled) {
     ParticleModel model;
     for (int i = 0; i < 1500; ++i) {  // three blocks, the last one partial
         const double s = i;
-        model.particles.push_back({Vec3(std::sin(s), std::cos(0.3 * s), 0.01 * s), Vec3(0.2 * std::cos(s), 1.0, 0.1),
-                                   0.5 + 0.001 * s, i % 97 == 0});
+        Vec3 x(std::sin(s), std::cos(0.3 * s), 0.01 * s), v(0.2 * std::cos(s), 1.0, 0.1);
+        if (i % 5 == 1) v = Vec3(0.0, 1.0, -0.0);
+        if (i % 5 == 2) v = Vec3(-0.0, 0.0, 0.0), x = Vec3(-0.0, 1.0, 0.0);
+        model.particles.push_back({x, v, 0.5 + 0.001 * s, i % 97 == 0});
     }
     model.forces = {UniformGravity{}, LinearDrag{0.02}, QuadraticDrag{0.01}};
     if (coupled) {
@@ -95,21 +98,47 @@ ParticleModel cloud(bool coupled) {
     return model;
 }
 
+// Each double's bits: -0 is not +0 here.
+std::vector<std::uint64_t> bits(const std::vector<double>& values) {
+    std::vector<std::uint64_t> out;
+    for (double d : values) out.push_back(std::bit_cast<std::uint64_t>(d));
+    return out;
+}
+
+// The gravities the fused loops build for: straight down (the build without
+// m 0, is_vertical), slanted, and down with -0 across (the general build).
+const Vec3 kGravities[] = {Vec3(0.0, -9.81, 0.0), Vec3(1.5, -9.81, 0.5), Vec3(-0.0, -9.81, -0.0)};
+
+std::string gravity_name(const Vec3& g) {
+    auto component = [](double d) { return (std::signbit(d) ? "-" : "") + std::to_string(std::abs(d)); };
+    return "g = (" + component(g.x()) + ", " + component(g.y()) + ", " + component(g.z()) + ") m/s²";
+}
+
 // A uniform field (the cloud without its spring) steps block by block
 // through the fused pass (integrators.cpp section 2); the spring, of zero
 // stiffness, makes the same system coupled, stepped whole through the array
-// path. Both must give the same bits.
+// path. Both must give the same bits, for each gravity, with and without
+// quadratic drag.
 class Blocks : public testing::TestWithParam<Integrator> {};
 
 TEST_P(Blocks, BlockByBlockEqualsWholeSystem) {
-    World blocked(cloud(false));
-    World whole(cloud(true));
-    for (int i = 0; i < 30; ++i) {
-        blocked.step({GetParam(), 1.0 / 60.0, 2});
-        whole.step({GetParam(), 1.0 / 60.0, 2});
+    for (const Vec3& g : kGravities) {
+        for (const bool quadratic : {true, false}) {
+            SCOPED_TRACE(gravity_name(g) + (quadratic ? ", quadratic drag" : ", linear drag alone"));
+            ParticleModel model = cloud(false);
+            model.forces = {UniformGravity{g}, LinearDrag{0.02}};
+            if (quadratic) model.forces.push_back(QuadraticDrag{0.01});
+            ParticleModel coupled = model;
+            coupled.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
+            World blocked(model), whole(coupled);
+            for (int i = 0; i < 30; ++i) {
+                blocked.step({GetParam(), 1.0 / 60.0, 2});
+                whole.step({GetParam(), 1.0 / 60.0, 2});
+            }
+            EXPECT_EQ(bits(blocked.state().x.raw()), bits(whole.state().x.raw())) << "bit-exact";
+            EXPECT_EQ(bits(blocked.state().v.raw()), bits(whole.state().v.raw())) << "bit-exact";
+        }
     }
-    EXPECT_EQ(blocked.state().x.raw(), whole.state().x.raw());
-    EXPECT_EQ(blocked.state().v.raw(), whole.state().v.raw());
 }
 
 INSTANTIATE_TEST_SUITE_P(Explicit, Blocks,
@@ -176,12 +205,10 @@ INSTANTIATE_TEST_SUITE_P(All, Widths, testing::ValuesIn([] {
 // particle by particle (backward_euler.cpp); a zero-stiffness spring makes the
 // same system coupled, solved through the sparse LDLᵀ. Same bits, with
 // pinned particles and without (the diagonal solve then leaves their
-// factor out), gravity straight down (its build without the products m 0),
-// slanted, or down with -0 across (m (-0) is -0: the same bits, see
-// backward_euler_diagonal); with a second drag or quadratic drag it must
-// take the sparse path.
+// factor out), for each of kGravities; with a second drag or quadratic drag
+// it must take the sparse path.
 TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
-    for (const Vec3& g : {Vec3(0.0, -9.81, 0.0), Vec3(1.5, -9.81, 0.5), Vec3(-0.0, -9.81, -0.0)}) {
+    for (const Vec3& g : kGravities) {
         for (const bool pins : {true, false}) {
             for (double c : {0.0, 0.05}) {
                 ParticleModel model = cloud(false);
@@ -196,14 +223,8 @@ TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
                     diagonal.step({Integrator::backward_euler, 1.0 / 60.0, 2});
                     sparse.step({Integrator::backward_euler, 1.0 / 60.0, 2});
                 }
-                const std::string what = "g = (" + std::to_string(g.x()) + ", " + std::to_string(g.y()) + ", " +
-                                         std::to_string(g.z()) + ") m/s², c = " + std::to_string(c) + " N·s/m" +
-                                         (pins ? ", pins" : "");
-                auto bits = [](const std::vector<double>& values) {  // -0 is not +0 here
-                    std::vector<std::uint64_t> out;
-                    for (double d : values) out.push_back(std::bit_cast<std::uint64_t>(d));
-                    return out;
-                };
+                const std::string what =
+                    gravity_name(g) + ", c = " + std::to_string(c) + " N·s/m" + (pins ? ", pins" : "");
                 EXPECT_EQ(bits(diagonal.state().x.raw()), bits(sparse.state().x.raw())) << what << ", bit-exact";
                 EXPECT_EQ(bits(diagonal.state().v.raw()), bits(sparse.state().v.raw())) << what << ", bit-exact";
                 EXPECT_EQ(diagonal.force_evaluations(), sparse.force_evaluations());
