@@ -115,7 +115,7 @@ EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv, RunRecorder* r
         if (csv) csv->rows(run);
         if (recorder) recorder->frame(run);
         if (interrupt_signal() != 0) check_interrupt("run --csv", "frame " + std::to_string(run.frame()));
-        progress.step("frame " + std::to_string(run.frame()));
+        progress.step([&] { return "frame " + std::to_string(run.frame()); });
     }
     if (run.verdict().exploded()) {
         if (csv) csv->rows(run);
