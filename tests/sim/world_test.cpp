@@ -78,11 +78,9 @@ TEST(Substeps, AreStepsOfDtOverSubsteps) {
 }
 
 // Many particles under gravity and drag only: every force is local, so the
-// world steps block by block. Adding a zero-stiffness spring (a coupled force
-// that adds exactly 0) makes it step the whole system at once: the results
-// must be the same bits. Some particles start with velocity or position
+// world steps them block by block. Some start with velocity or position
 // components of +0 and -0, where a zero force's sign could show.
-ParticleModel cloud(bool coupled) {
+ParticleModel cloud() {
     ParticleModel model;
     for (int i = 0; i < 1500; ++i) {  // three blocks, the last one partial
         const double s = i;
@@ -92,16 +90,12 @@ ParticleModel cloud(bool coupled) {
         model.particles.push_back({x, v, 0.5 + 0.001 * s, i % 97 == 0});
     }
     model.forces = {UniformGravity{}, LinearDrag{0.02}, QuadraticDrag{0.01}};
-    if (coupled) {
-        model.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
-    }
     return model;
 }
 
-// Each double's bits: -0 is not +0 here.
-std::vector<std::uint64_t> bits(const std::vector<double>& values) {
-    std::vector<std::uint64_t> out;
-    for (double d : values) out.push_back(std::bit_cast<std::uint64_t>(d));
+std::vector<std::uint64_t> bits(const std::vector<double>& values) {  // each double's: -0 is not +0 here
+    std::vector<std::uint64_t> out(values.size());
+    std::transform(values.begin(), values.end(), out.begin(), [](double d) { return std::bit_cast<std::uint64_t>(d); });
     return out;
 }
 
@@ -114,18 +108,17 @@ std::string gravity_name(const Vec3& g) {
     return "g = (" + component(g.x()) + ", " + component(g.y()) + ", " + component(g.z()) + ") m/s²";
 }
 
-// A uniform field (the cloud without its spring) steps block by block
-// through the fused pass (integrators.cpp section 2); the spring, of zero
-// stiffness, makes the same system coupled, stepped whole through the array
-// path. Both must give the same bits, for each gravity, with and without
-// quadratic drag.
+// A uniform field (the cloud) steps block by block through the fused pass
+// (integrators.cpp section 2); a spring of zero stiffness makes the same
+// system coupled, stepped whole through the array path. Both must give the
+// same bits, for each gravity, with and without quadratic drag.
 class Blocks : public testing::TestWithParam<Integrator> {};
 
 TEST_P(Blocks, BlockByBlockEqualsWholeSystem) {
     for (const Vec3& g : kGravities) {
         for (const bool quadratic : {true, false}) {
             SCOPED_TRACE(gravity_name(g) + (quadratic ? ", quadratic drag" : ", linear drag alone"));
-            ParticleModel model = cloud(false);
+            ParticleModel model = cloud();
             model.forces = {UniformGravity{g}, LinearDrag{0.02}};
             if (quadratic) model.forces.push_back(QuadraticDrag{0.01});
             ParticleModel coupled = model;
@@ -179,8 +172,8 @@ TEST_P(Widths, AvxBuildsGiveThePinnedBuildsBits) {
     if (!avx2_available()) GTEST_SKIP() << "this CPU has no AVX2: only the pinned builds run";
     for (const bool cloth : {false, true}) {
         SCOPED_TRACE(cloth ? "array path (springs)" : "fused path (uniform field)");
-        World wide(cloth ? sheet() : cloud(false));
-        World pinned(cloth ? sheet() : cloud(false));
+        World wide(cloth ? sheet() : cloud());
+        World pinned(cloth ? sheet() : cloud());
         pinned.set_wide(false);
         ASSERT_TRUE(wide.wide());
         ASSERT_FALSE(pinned.wide());
@@ -211,7 +204,7 @@ TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
     for (const Vec3& g : kGravities) {
         for (const bool pins : {true, false}) {
             for (double c : {0.0, 0.05}) {
-                ParticleModel model = cloud(false);
+                ParticleModel model = cloud();
                 if (!pins) {
                     for (ParticleDef& p : model.particles) p.pinned = false;
                 }
@@ -251,7 +244,7 @@ TEST(Watchdog, ChecksInsideTheIntegratorsPassFindWhatTheFullPassFinds) {
                               Case{"bounds", Vec3(9999.5, 0.0, 0.0), Vec3(20.0, 0.0, 0.0)},
                               Case{"non-finite", Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 0.0)}}) {
             for (const bool array_path : {false, true}) {
-                ParticleModel model = cloud(false);
+                ParticleModel model = cloud();
                 model.forces = {UniformGravity{}};
                 if (array_path) model.forces.push_back(Springs{{{0, 1, 1.0, 0.0, 0.0}}});
                 model.particles[1400].position = c.x;
@@ -297,7 +290,7 @@ TEST(Timing, SamplesFewFramesOfALightStepAndEveryFrameOfAHeavyOne) {
     EXPECT_GT(t.ms_per_step(t.total), 0.0);
     EXPECT_GE(t.ms_per_step(t.total), t.ms_per_step(t.particles)) << "the whole step includes its stages";
 
-    World heavy(cloud(false));  // 1500 particles, 8 substeps of RK4: about 80 µs a frame here
+    World heavy(cloud());  // 1500 particles, 8 substeps of RK4: about 80 µs a frame here
     for (int i = 0; i < 40; ++i) heavy.step({Integrator::rk4, 1.0 / 60.0, 8});
     EXPECT_GE(heavy.times().sampled_frames, 20u) << "the clocks cost under 1% of such a frame";
     EXPECT_EQ(heavy.times().sampled_steps, 8 * heavy.times().sampled_frames);
