@@ -213,10 +213,12 @@ struct RenderSettings {
     // anti-aliasing test's); 0 otherwise.
     float jitter_x = 0.0f, jitter_y = 0.0f;
     // The scene is drawn at this fraction of width x height per side (the
-    // render targets are that size, rounded), 0.25 .. 1; overlays keep their
-    // pixel layout on width x height, and blit_to_window scales the frame up
-    // to it. Below 1: a viewer's dynamic resolution (fewer pixels to shade
-    // while a heavy scene runs); read_back then returns the smaller image.
+    // render targets are that size, rounded), 0.25 .. 1, and blit_to_window
+    // scales the frame up to width x height, then draws the overlays over it
+    // at that size: text and plots stay sharp whatever the scale. Below 1: a
+    // viewer's dynamic resolution (fewer pixels to shade while a heavy scene
+    // runs); read_back then returns the smaller image, the scene without its
+    // overlays.
     float scale = 1.0f;
     bool operator==(const RenderSettings&) const = default;
 };

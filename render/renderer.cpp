@@ -160,7 +160,9 @@ void Renderer::Impl::draw(const DrawList& list, const RenderSettings& settings) 
     clock.lap(t.translucent);
     trail_pass(camera.view_proj);
     clock.lap(t.trails);
-    overlay_pass();
+    // Scaled down, overlays are drawn over the window by blit_to_window, at
+    // its pixels: text and plots stay sharp while the scene is softer.
+    if (!scaled_down()) overlay_pass();
     clock.lap(t.overlays);
     end_main_pass();
     resolve_msaa();
@@ -249,6 +251,11 @@ void Renderer::blit_to_window() {
     r.gl.BlitFramebuffer(0, 0, r.width, r.height, 0, 0, r.view_width, r.view_height, GL_COLOR_BUFFER_BIT,
                          same ? GL_NEAREST : GL_LINEAR);
     r.gl.BindFramebuffer(GL_FRAMEBUFFER, 0);  // what draws on top (a UI) draws into the window
+    if (r.scaled_down()) {
+        r.gl.Viewport(0, 0, r.view_width, r.view_height);
+        r.overlay_pass();
+        r.gl.BindVertexArray(0);
+    }
 }
 
 void Renderer::present() {

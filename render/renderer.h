@@ -51,7 +51,8 @@ public:
     void finish();
     // Window contexts: copies the last frame into the window's back buffer
     // (drawn at the window's framebuffer size: 1:1, or scaled up, filtered,
-    // from a frame drawn at a RenderSettings::scale below 1) and swaps buffers.
+    // from a frame drawn at a RenderSettings::scale below 1, its overlays then
+    // drawn over it at the window's pixels) and swaps buffers.
     void present();
     // The same without the swap, for a UI drawn on top before the caller swaps;
     // leaves the window's framebuffer bound.
@@ -79,6 +80,13 @@ public:
         double total() const {
             return prepare + shadow + ground + opaque + impostors + translucent + trails + overlays + resolve +
                    read_back;
+        }
+        // Adds another frame's times, each times scale (for sums and means).
+        void add(const PassTimes& o, double scale = 1.0) {
+            prepare += scale * o.prepare, shadow += scale * o.shadow, ground += scale * o.ground;
+            opaque += scale * o.opaque, impostors += scale * o.impostors, translucent += scale * o.translucent;
+            trails += scale * o.trails, overlays += scale * o.overlays, resolve += scale * o.resolve;
+            read_back += scale * o.read_back;
         }
     };
     struct FrameStats {

@@ -131,6 +131,9 @@ struct Renderer::Impl {
     // The last frame's size as asked (RenderSettings' width x height): the
     // targets are this at its scale; overlays and the window use this.
     int view_width = 0, view_height = 0;
+    // The frame was drawn on fewer pixels than asked (RenderSettings::scale
+    // below 1): its overlays are left to blit_to_window.
+    bool scaled_down() const { return width != view_width || height != view_height; }
     GLuint msaa_fbo = 0, msaa_color = 0, msaa_depth = 0;
     GLuint resolve_fbo = 0, resolve_color = 0, resolve_depth = 0;
     int shadow_size = 0;

@@ -7,7 +7,9 @@
 //   impostor_pass ..... solid spheres, ray-cast
 //   translucent_pass .. ghosts, blended, after every solid
 //   trail_pass ........ ribbons, blended, not writing depth
-//   overlay_pass ...... text and plots in pixels, on top of everything
+//   overlay_pass ...... text and plots in pixels, on top of everything (a
+//                       frame drawn at a lower scale: over the window, by
+//                       blit_to_window)
 //   end_main_pass, resolve_msaa
 //
 // Each pass sets the GL state it needs and puts back what the next one
@@ -218,8 +220,9 @@ void Renderer::Impl::overlay_pass() {
     gl.Disable(GL_DEPTH_TEST);
     const GLuint program = programs.overlay;
     gl.UseProgram(program);
-    // Laid out in the frame's pixels as asked (view_width x view_height):
-    // drawn at a lower scale, they shrink with the scene.
+    // Laid out in the frame's pixels as asked (view_width x view_height),
+    // into the frame's targets or, for a frame drawn at a lower scale, over
+    // the window after the frame is stretched into it (blit_to_window).
     gl.Uniform2f(gl.GetUniformLocation(program, "u_viewport"), static_cast<float>(view_width),
                  static_cast<float>(view_height));
     gl.Uniform1i(gl.GetUniformLocation(program, "u_atlas"), 1);

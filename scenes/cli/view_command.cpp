@@ -16,6 +16,18 @@ struct ViewArgs {
     std::string size = "1280x720", screenshot;
 };
 
+// --verbose: a running frame part by part, the renderer pass by pass.
+void print_parts(const ViewFrameParts& f) {
+    const render::Renderer::PassTimes& p = f.passes;
+    std::printf(
+        "view: a running frame, the mean of %d, ms: %.2f swap to swap; physics %.2f, draw list %.2f, rendering "
+        "%.2f (prepare %.2f, shadow %.2f, ground %.2f, opaque %.2f, impostors %.2f, translucent %.2f, trails "
+        "%.2f, overlays %.2f, MSAA resolve %.2f; each pass waiting for the renderer), blit %.2f, panel %.2f, "
+        "swap %.2f\n",
+        f.frames, f.frame, f.physics, f.draw_list, p.total(), p.prepare, p.shadow, p.ground, p.opaque, p.impostors,
+        p.translucent, p.trails, p.overlays, p.resolve, f.blit, f.panel, f.swap);
+}
+
 int view(ViewArgs& a) {
     const auto [w, h] = parse_size(a.size);
     a.options.width = w;
@@ -32,6 +44,7 @@ int view(ViewArgs& a) {
     std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s%s\n", scene.name.c_str(), v.frame, v.time,
                 v.state_hash.c_str(), v.exploded ? " (exploded)" : "", scales,
                 a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
+    if (a.options.verbose) print_parts(v.parts);
     const int replay = report_replay(scene, v.diverged_frame, v.frame);
     return v.exploded ? kExitFailed : replay;
 }
@@ -49,7 +62,7 @@ Command add_view(CLI::App& app) {
                     "MSAA samples, 0 (off, as the goldens) .. 8; -1: 4 when still, off while running")
         ->capture_default_str();
     cmd->add_option("--render-scale", args->options.render_scale,
-                    "Draw a running scene at this fraction of the window's pixels per side, 0.5 .. 1; -1: chosen "
+                    "Draw a running scene at this fraction of the window's pixels per side, 0.375 .. 1; -1: chosen "
                     "frame by frame to keep a frame within 25 ms (still frames are drawn whole, and so are "
                     "--exit-after's)")
         ->capture_default_str();
@@ -62,6 +75,9 @@ Command add_view(CLI::App& app) {
                     "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
                     "Right', '5 move @Scene parameters', '6 press left'; see scenes/view/input_script.h); the "
                     "scene then steps once per drawn frame while running");
+    cmd->add_flag("--verbose", args->options.verbose,
+                  "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
+                  "and print the means on exit (each pass then waits for the renderer: a little slower)");
     return {cmd, [args] { return view(*args); }};
 }
 

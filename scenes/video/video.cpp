@@ -157,15 +157,6 @@ void title_card(render::Image& frame, const SceneDef& scene, const std::vector<s
     render::draw_text(frame, font, order, left, y, size, light);
 }
 
-// into += scale x from, pass by pass.
-void add_passes(render::Renderer::PassTimes& into, const render::Renderer::PassTimes& from, double scale = 1.0) {
-    into.prepare += scale * from.prepare, into.shadow += scale * from.shadow, into.ground += scale * from.ground;
-    into.opaque += scale * from.opaque, into.impostors += scale * from.impostors;
-    into.translucent += scale * from.translucent, into.trails += scale * from.trails;
-    into.overlays += scale * from.overlays, into.resolve += scale * from.resolve;
-    into.read_back += scale * from.read_back;
-}
-
 // One description per tile, each with its variant's overrides (a run holds a
 // reference to its description, so they live apart).
 std::vector<std::unique_ptr<SceneDef>> tile_scenes(const SceneDef& scene, const std::vector<Override>& overrides,
@@ -438,7 +429,7 @@ public:
         stats.render_ms = 1e3 * render_ / frames_;
         stats.seconds = std::chrono::duration<double>(Clock::now() - start_).count();
         stats.encode_ms = 1e3 * encode_ / frames_;
-        add_passes(stats.passes, passes_, 1.0 / frames_);
+        stats.passes.add(passes_, 1.0 / frames_);
         stats.last_frame = runs_.front()->frame();
         stats.diverged_frame = runs_.front()->diverged_frame();
         return stats;
@@ -483,7 +474,7 @@ private:
             } else {
                 place(renderer_.render(list, settings_), i);
             }
-            if (options_.verbose) add_passes(passes_, renderer_.last_frame().passes);
+            if (options_.verbose) passes_.add(renderer_.last_frame().passes);
         }
         physics_ += scenes.physics;
         render_ += std::chrono::duration<double>(Clock::now() - start).count();

@@ -115,7 +115,7 @@ void validate(const ViewOptions& o) {
             std::to_string(o.msaa_samples) + ")");
     }
     if (o.render_scale != -1.0 && !(o.render_scale >= view::FrameBudget::kMinScale && o.render_scale <= 1.0)) {
-        throw sim::InputError("view: --render-scale must be within 0.5 .. 1, or -1 to keep a running frame within " +
+        throw sim::InputError("view: --render-scale must be within 0.375 .. 1, or -1 to keep a running frame within " +
                               std::to_string(static_cast<int>(view::FrameBudget::kBudgetMs)) + " ms (got " +
                               sim::format_value(o.render_scale) + ")");
     }
@@ -277,6 +277,60 @@ struct ImGuiSession {
     ImGuiSession& operator=(const ImGuiSession&) = delete;
 };
 
+// --- FramePartsClock: --verbose's times ---------------------------------------------
+
+// A frame's parts as laps of one clock: lap(field) adds the time since the
+// last lap to that part of this frame (nullptr: to none); keep_frame() keeps
+// it for the means, which count frames kept, each swap to swap.
+class FramePartsClock {
+public:
+    // A frame starts: the one kept before it ends here (its whole time is swap to swap).
+    void start(Clock::time_point now) {
+        if (kept_) {
+            kept_ = false;
+            last_.frame = ms(frame_start_, now);
+            add(last_);
+        }
+        frame_ = {};
+        frame_start_ = lap_ = now;
+    }
+    void lap(double ViewFrameParts::*part) {
+        const auto now = Clock::now();
+        if (part != nullptr) frame_.*part += ms(lap_, now);
+        lap_ = now;
+    }
+    void keep_frame(const render::Renderer::PassTimes& passes) {
+        last_ = frame_;
+        last_.passes = passes;
+        kept_ = true;
+    }
+    ViewFrameParts means() const {
+        ViewFrameParts m;
+        m.frames = sum_.frames;
+        if (m.frames > 0) add_to(m, sum_, 1.0 / m.frames);
+        return m;
+    }
+
+private:
+    static double ms(Clock::time_point a, Clock::time_point b) {
+        return 1e3 * std::chrono::duration<double>(b - a).count();
+    }
+    static void add_to(ViewFrameParts& into, const ViewFrameParts& f, double k) {
+        for (double ViewFrameParts::*p : {&ViewFrameParts::physics, &ViewFrameParts::draw_list, &ViewFrameParts::blit,
+                                          &ViewFrameParts::panel, &ViewFrameParts::swap, &ViewFrameParts::frame}) {
+            into.*p += k * f.*p;
+        }
+        into.passes.add(f.passes, k);
+    }
+    void add(const ViewFrameParts& f) {
+        ++sum_.frames;
+        add_to(sum_, f, 1.0);
+    }
+    Clock::time_point frame_start_{}, lap_{};
+    ViewFrameParts frame_, last_, sum_;
+    bool kept_ = false;
+};
+
 }  // namespace
 
 // --- run_viewer: the loop ----------------------------------------------------------
@@ -293,6 +347,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
                                                  .title = "Plausible: " + scene.name});
     GLFWwindow* window = context->window();
     render::Renderer renderer(*context);
+    renderer.time_passes(options.verbose);
     glfwSetWindowUserPointer(window, &viewer);
     glfwSetKeyCallback(window, on_key);
     glfwSetMouseButtonCallback(window, on_mouse_button);
@@ -301,16 +356,19 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
     glfwSwapInterval(1);
     ImGuiSession imgui(window);
 
-    auto last = Clock::now();
+    auto last = Clock::now(), last_swap = last;
     int shown = 0, drawn = 0;
     view::FrameBudget budget(static_cast<float>(options.render_scale));
     float scale_min = 0.0f, scale_max = 0.0f;  // of the frames drawn running
+    FramePartsClock parts;                     // --verbose
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
         const auto now = Clock::now();
+        parts.start(now);
         viewer.update(std::chrono::duration<double>(now - last).count());
         last = now;
+        parts.lap(&ViewFrameParts::physics);
         const bool done = viewer.quit || glfwWindowShouldClose(window) != 0 ||
                           (options.exit_after > 0 && ++shown >= options.exit_after);
 
@@ -327,9 +385,14 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             scale_max = std::max(scale_max, scale);
         }
         const auto r0 = Clock::now();
-        renderer.draw(viewer.draw_list(width, height),
-                      {.width = width, .height = height, .msaa_samples = msaa, .scale = scale});
+        parts.lap(nullptr);
+        const render::DrawList list = viewer.draw_list(width, height);
+        parts.lap(&ViewFrameParts::draw_list);
+        renderer.draw(list, {.width = width, .height = height, .msaa_samples = msaa, .scale = scale});
+        parts.lap(nullptr);
         renderer.blit_to_window();
+        if (options.verbose) renderer.finish();  // the blit's time is its own, not the swap's
+        parts.lap(&ViewFrameParts::blit);
         const double render_ms = 1e3 * std::chrono::duration<double>(Clock::now() - r0).count();
         if (viewer.panel()) {
             ImGui_ImplOpenGL3_NewFrame();
@@ -339,7 +402,9 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             viewer.panel_ui();
             ImGui::Render();
             ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            if (options.verbose) renderer.finish();
         }
+        parts.lap(&ViewFrameParts::panel);
         viewer.record_times(render_ms, scale);
         if (viewer.screenshot_now) {
             // P: beside --screenshot (or here), named by scene and frame; a failed
@@ -357,8 +422,14 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             viewer.screenshot_now = false;
         }
         if (done && !options.screenshot.empty()) render::write_png(options.screenshot, renderer.read_window());
-        budget.frame_took(1e3 * std::chrono::duration<double>(Clock::now() - now).count(), drew_running);
+        const auto swap_start = Clock::now();
         context->swap_buffers();
+        parts.lap(&ViewFrameParts::swap);
+        const auto swapped = Clock::now();
+        budget.frame_took(1e3 * std::chrono::duration<double>(swap_start - now).count(),
+                          1e3 * std::chrono::duration<double>(swapped - last_swap).count(), drew_running);
+        last_swap = swapped;
+        if (options.verbose && drew_running) parts.keep_frame(renderer.last_frame().passes);
         if (done) break;
     }
     return {viewer.run().frame(),
@@ -367,7 +438,8 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             viewer.run().state_hash_hex(),
             viewer.run().diverged_frame(),
             scale_min,
-            scale_max};
+            scale_max,
+            parts.means()};
 }
 
 }  // namespace scenes

@@ -14,6 +14,7 @@
 // again has the same bits as the first time.
 #pragma once
 
+#include "render/renderer.h"
 #include "scenes/model/scene.h"
 
 #include <filesystem>
@@ -29,7 +30,7 @@ struct ViewOptions {
     // (4x MSAA costs llvmpipe about 40% more per frame).
     int msaa_samples = -1;
     // The fraction of the window's pixels per side a frame is drawn at while
-    // the scene runs, 0.5 .. 1; -1: chosen frame by frame to keep a frame
+    // the scene runs, 0.375 .. 1; -1: chosen frame by frame to keep a frame
     // within 25 ms (view/frame_budget.h). Still frames are drawn whole, and
     // so are --exit-after's (one step each, as the goldens draw them).
     double render_scale = -1.0;
@@ -40,6 +41,21 @@ struct ViewOptions {
     // A script of key, text and mouse events by drawn frame (view/input_script.h);
     // while one drives it, a running scene steps once per drawn frame.
     std::filesystem::path input;
+    // Time each running frame part by part (ViewResult::parts), the renderer
+    // pass by pass (each pass then waits for it: a little slower).
+    bool verbose = false;
+};
+
+// A running frame's parts, ms, the mean over the frames drawn running.
+struct ViewFrameParts {
+    int frames = 0;                      // drawn running
+    double physics = 0.0;                // the scene's steps (Viewer::update) and the history kept for stepping back
+    double draw_list = 0.0;              // the scene turned into a DrawList
+    render::Renderer::PassTimes passes;  // Renderer::draw, pass by pass
+    double blit = 0.0;                   // the frame stretched into the window, and the overlays over it when scaled
+    double panel = 0.0;                  // the Dear ImGui panel
+    double swap = 0.0;                   // the buffer swap: the copy to the display (with vsync, the wait for it)
+    double frame = 0.0;                  // the whole frame, swap to swap
 };
 
 struct ViewResult {
@@ -51,6 +67,7 @@ struct ViewResult {
     // The scales running frames were drawn at (RenderSettings::scale), lowest
     // and highest; 0 when no frame was drawn running.
     float running_scale_min = 0.0f, running_scale_max = 0.0f;
+    ViewFrameParts parts;  // options.verbose; else zero
 };
 
 // Opens the window and runs until it is closed (or after exit_after frames).

@@ -16,7 +16,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
-#include <utility>
 
 namespace {
 
@@ -67,13 +66,7 @@ void frame(benchmark::State& state) {
     for (int k = 0; k < kTimed; ++k) {
         next();
         if (read_back) benchmark::DoNotOptimize(r.read_back(3).pixels.data());
-        const render::Renderer::PassTimes& t = r.last_frame().passes;
-        for (auto [into, from] : {std::pair{&sum.prepare, t.prepare}, std::pair{&sum.shadow, t.shadow},
-                                  std::pair{&sum.ground, t.ground}, std::pair{&sum.opaque, t.opaque},
-                                  std::pair{&sum.impostors, t.impostors}, std::pair{&sum.overlays, t.overlays},
-                                  std::pair{&sum.resolve, t.resolve}, std::pair{&sum.read_back, t.read_back}}) {
-            *into += from / kTimed;
-        }
+        sum.add(r.last_frame().passes, 1.0 / kTimed);
     }
     r.time_passes(false);
     state.counters["ms_shadow"] = sum.shadow;

@@ -175,8 +175,9 @@ TEST_F(View, KeysPauseStepAndStepBackThroughStoredStates) {
 // default, picks the fraction frame by frame); a screenshot (P) taken while
 // it runs, and the last frame, are drawn whole: each is the scene's frame as
 // the off-screen render draws it at the window's size (no MSAA while running).
+// --verbose prints the running frames' parts.
 TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
-    const Ran r = play("pendulum", "--no-panel --size 480x270 --render-scale 0.5 --screenshot last.png", R"(
+    const Ran r = play("pendulum", "--no-panel --size 480x270 --render-scale 0.5 --screenshot last.png --verbose", R"(
 1 key space   # runs from here: one step a drawn frame
 20 key p
 30 key q
@@ -190,6 +191,18 @@ TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
     }
     ASSERT_GT(shot_frame, 0) << "no screenshot from P: " << r.out;
     EXPECT_NE(r.out.find("running frames drawn at 50-50%"), std::string::npos) << r.out;
+    // Frames 2 to 29 ran, but for the screenshot's (drawn still); each is kept
+    // when the next starts.
+    std::smatch parts;
+    ASSERT_TRUE(std::regex_search(r.out, parts,
+                                  std::regex("a running frame, the mean of ([0-9]+), ms: ([0-9.]+) swap to swap; "
+                                             "physics ([0-9.]+), draw list [0-9.]+, rendering ([0-9.]+)")))
+        << r.out;
+    EXPECT_GE(std::stoi(parts[1]), 20) << r.out;
+    EXPECT_LE(std::stoi(parts[1]), 28) << r.out;
+    const double frame = std::stod(parts[2]), physics = std::stod(parts[3]), rendering = std::stod(parts[4]);
+    EXPECT_GT(rendering, 0.0) << r.out;
+    EXPECT_GT(frame, physics + rendering) << "ms: a frame is more than its physics and its drawing: " << r.out;
     auto still = [](int frames) {
         const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("pendulum"));
         scenes::SceneRun run(scene);
@@ -202,29 +215,37 @@ TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
     expect_same_picture(dir_ / "last.png", still(std::stoi(field(r.out, "frame"))));
 }
 
-// The running scale follows the frames' times: down while a frame is over
-// the budget (by at most a fifth a frame, to the floor), up while frames have
-// room (a tenth a frame, to 1), steady inside the band; still frames and a
-// fixed --render-scale are never changed by it.
+// The running scale follows the frames' times: down while a frame (swap to
+// swap) is over the budget, by at most a fifth a frame, to the floor; up
+// while the work before the swap has room (a tenth a frame, to 1), though
+// the frame, waiting for vsync, reads longer; steady in between; still
+// frames and a fixed --render-scale are never changed by it.
 TEST(FrameBudget, KeepsARunningFrameWithinItsBudget) {
     using scenes::view::FrameBudget;
+    constexpr double B = FrameBudget::kBudgetMs;
     FrameBudget budget(-1.0f);
     EXPECT_EQ(budget.scale(false), 1.0f);
     const float start = budget.scale(true);
-    budget.frame_took(2 * FrameBudget::kBudgetMs, true);  // 50 ms: wants sqrt(0.85 / 2) ~ 0.65 of it
+    budget.frame_took(1.5 * B, 2 * B, true);  // 50 ms a frame: wants sqrt(0.85 / 2) ~ 0.65 of it
     EXPECT_LT(budget.scale(true), start);
     EXPECT_GE(budget.scale(true), 0.8f * start - FrameBudget::kStep);
-    for (int k = 0; k < 20; ++k) budget.frame_took(4 * FrameBudget::kBudgetMs, true);
+    for (int k = 0; k < 20; ++k) budget.frame_took(3 * B, 4 * B, true);
     EXPECT_EQ(budget.scale(true), FrameBudget::kMinScale);
     const float low = budget.scale(true);
-    budget.frame_took(0.8 * FrameBudget::kBudgetMs, true);  // inside the band: stays
+    budget.frame_took(0.7 * B, 0.9 * B, true);  // within the budget, the work without room: stays
     EXPECT_EQ(budget.scale(true), low);
-    budget.frame_took(0.2 * FrameBudget::kBudgetMs, false);  // a still frame says nothing
+    budget.frame_took(0.5 * B, 1.1 * B, true);   // over it (the swap's copy), though the work has room: down
+    EXPECT_EQ(budget.scale(true), low);          // (at the floor)
+    budget.frame_took(0.2 * B, 0.2 * B, false);  // a still frame says nothing
     EXPECT_EQ(budget.scale(true), low);
-    for (int k = 0; k < 20; ++k) budget.frame_took(0.2 * FrameBudget::kBudgetMs, true);
+    budget.frame_took(0.3 * B, 0.67 * B, true);  // 16.7 ms a frame at vsync, 7.5 ms of work: up
+    EXPECT_GT(budget.scale(true), low);
+    for (int k = 0; k < 20; ++k) budget.frame_took(0.2 * B, 0.67 * B, true);
     EXPECT_EQ(budget.scale(true), 1.0f);
+    budget.frame_took(0.8 * B, 1.2 * B, true);  // over the budget at 1: down
+    EXPECT_LT(budget.scale(true), 1.0f);
     FrameBudget fixed(0.75f);
-    fixed.frame_took(4 * FrameBudget::kBudgetMs, true);
+    fixed.frame_took(3 * B, 4 * B, true);
     EXPECT_EQ(fixed.scale(true), 0.75f);
 }
 
