@@ -279,30 +279,28 @@ struct ImGuiSession {
 
 // --- FramePartsClock: --verbose's times ---------------------------------------------
 
-// A frame's parts as laps of one clock: lap(field) adds the time since the
-// last lap to that part of this frame (nullptr: to none); keep_frame() keeps
-// it for the means, which count frames kept, each swap to swap.
+// A running frame's parts as laps of one clock: lap(part) adds the time since
+// the last lap to that part of this frame (nullptr: to none); keep() adds the
+// frame, with its whole time (swap to swap), to the means. Off, it does nothing.
 class FramePartsClock {
 public:
-    // A frame starts: the one kept before it ends here (its whole time is swap to swap).
+    explicit FramePartsClock(bool on) : on_(on) {}
     void start(Clock::time_point now) {
-        if (kept_) {
-            kept_ = false;
-            last_.frame = ms(frame_start_, now);
-            add(last_);
-        }
         frame_ = {};
-        frame_start_ = lap_ = now;
-    }
-    void lap(double ViewFrameParts::*part) {
-        const auto now = Clock::now();
-        if (part != nullptr) frame_.*part += ms(lap_, now);
         lap_ = now;
     }
-    void keep_frame(const render::Renderer::PassTimes& passes) {
-        last_ = frame_;
-        last_.passes = passes;
-        kept_ = true;
+    void lap(double ViewFrameParts::*part) {
+        if (!on_) return;
+        const auto now = Clock::now();
+        if (part != nullptr) frame_.*part += 1e3 * std::chrono::duration<double>(now - lap_).count();
+        lap_ = now;
+    }
+    void keep(double frame_ms, const render::Renderer::PassTimes& passes) {
+        if (!on_) return;
+        frame_.frame = frame_ms;
+        frame_.passes = passes;
+        ++sum_.frames;
+        add_to(sum_, frame_, 1.0);
     }
     ViewFrameParts means() const {
         ViewFrameParts m;
@@ -312,9 +310,6 @@ public:
     }
 
 private:
-    static double ms(Clock::time_point a, Clock::time_point b) {
-        return 1e3 * std::chrono::duration<double>(b - a).count();
-    }
     static void add_to(ViewFrameParts& into, const ViewFrameParts& f, double k) {
         for (double ViewFrameParts::*p : {&ViewFrameParts::physics, &ViewFrameParts::draw_list, &ViewFrameParts::blit,
                                           &ViewFrameParts::panel, &ViewFrameParts::swap, &ViewFrameParts::frame}) {
@@ -322,13 +317,9 @@ private:
         }
         into.passes.add(f.passes, k);
     }
-    void add(const ViewFrameParts& f) {
-        ++sum_.frames;
-        add_to(sum_, f, 1.0);
-    }
-    Clock::time_point frame_start_{}, lap_{};
-    ViewFrameParts frame_, last_, sum_;
-    bool kept_ = false;
+    bool on_;
+    Clock::time_point lap_{};
+    ViewFrameParts frame_, sum_;
 };
 
 }  // namespace
@@ -360,7 +351,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
     int shown = 0, drawn = 0;
     view::FrameBudget budget(static_cast<float>(options.render_scale));
     float scale_min = 0.0f, scale_max = 0.0f;  // of the frames drawn running
-    FramePartsClock parts;                     // --verbose
+    FramePartsClock parts(options.verbose);
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
@@ -426,10 +417,10 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         context->swap_buffers();
         parts.lap(&ViewFrameParts::swap);
         const auto swapped = Clock::now();
-        budget.frame_took(1e3 * std::chrono::duration<double>(swap_start - now).count(),
-                          1e3 * std::chrono::duration<double>(swapped - last_swap).count(), drew_running);
+        const double frame_ms = 1e3 * std::chrono::duration<double>(swapped - last_swap).count();
         last_swap = swapped;
-        if (options.verbose && drew_running) parts.keep_frame(renderer.last_frame().passes);
+        budget.frame_took(1e3 * std::chrono::duration<double>(swap_start - now).count(), frame_ms, drew_running);
+        if (drew_running) parts.keep(frame_ms, renderer.last_frame().passes);
         if (done) break;
     }
     return {viewer.run().frame(),
