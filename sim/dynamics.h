@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace sim {
 
@@ -49,13 +50,32 @@ inline bool is_vertical(const UniformField& field) {
     return !std::signbit(field.g.x()) && field.g.x() == 0.0 && !std::signbit(field.g.z()) && field.g.z() == 0.0;
 }
 
-struct Spring;  // sim/spring.h
+struct Spring;         // sim/spring.h
+struct NewtonGravity;  // sim/newton_gravity.h
 
 // A force that is, on a system of two particles, one spring between them,
 // with a uniform field or without (a bead on its anchor).
 struct SpringPair {
     const Spring* spring = nullptr;
     const UniformField* field = nullptr;  // nullptr: none
+};
+
+// A force that is, on a system of two particles, Newton's gravity alone,
+// with a uniform field or without (a planet around a pinned sun).
+struct PairGravity {
+    const NewtonGravity* gravity = nullptr;
+    const UniformField* field = nullptr;  // nullptr: none
+};
+
+// The whole force on a system of two particles when it is one of the pairs
+// above (at most one of spring and gravity is set), with the masses, kg, and
+// inverse masses, 1/kg, of the whole system: what RK4 needs to evaluate the
+// force inline (sim/pair_forces.h), in one call.
+struct PairPath {
+    const SpringPair* spring = nullptr;
+    const PairGravity* gravity = nullptr;
+    const double* mass = nullptr;
+    const double* inv_mass = nullptr;
 };
 
 class Dynamics {
@@ -67,13 +87,19 @@ public:
     // a step is one pass over memory; they report those evaluations through
     // count_evaluations.
     virtual const UniformField* uniform_field() const { return nullptr; }
-    virtual void count_evaluations(std::size_t /*particles*/) {}
 
-    // The whole force on `particles` particles as a SpringPair, when it is
-    // one (else nullptr): RK4 then evaluates it inline (sim/pair_forces.h),
-    // its stages in registers, and reports the evaluations through
-    // count_evaluations.
-    virtual const SpringPair* spring_pair(std::size_t /*particles*/) const { return nullptr; }
+    // Force evaluations made outside acceleration(), per particle. Not
+    // virtual: on a small step an indirect call is a cost of its own.
+    void count_evaluations(std::size_t particles) { particle_evaluations_ += particles; }
+    // Particle-evaluations of the force so far; divided by n it is the number
+    // of whole-system force evaluations (the machine-independent cost).
+    std::uint64_t particle_evaluations() const { return particle_evaluations_; }
+
+    // The whole force on `particles` particles as a pair (PairPath; both
+    // pointers nullptr where it is not one): RK4 then evaluates it inline
+    // (sim/pair_forces.h), its stages in registers, and reports the
+    // evaluations through count_evaluations.
+    virtual PairPath pair_path(std::size_t /*particles*/) const { return {}; }
 
     // True when no force reads a particle's velocity (no drag, no damper):
     // an integrator may then skip predicting the velocity a force would see.
@@ -92,6 +118,9 @@ public:
     // Masses of the whole system, kg, and inverse masses, 1/kg (0 = pinned).
     virtual const double* mass() const = 0;
     virtual const double* inv_mass() const = 0;
+
+protected:
+    std::uint64_t particle_evaluations_ = 0;
 };
 
 }  // namespace sim

@@ -62,12 +62,13 @@ public:
     const double* mass() const override { return mass_->data(); }
     const double* inv_mass() const override { return inv_mass_->data(); }
     // One spring on two particles, with the field (outside the frames the
-    // per-system clocks sample, as few_springs).
-    const SpringPair* spring_pair(std::size_t particles) const override {
-        return spring_pair_.spring != nullptr && particles == 2 && spring_time_ == nullptr ? &spring_pair_ : nullptr;
+    // per-system clocks sample, as few_springs), or Newton's gravity alone
+    // between them, with the field.
+    PairPath pair_path(std::size_t particles) const override {
+        return {spring_pair(particles), particles == 2 && pair_gravity_.gravity != nullptr ? &pair_gravity_ : nullptr,
+                mass_->data(), inv_mass_->data()};
     }
     const UniformField* uniform_field() const override { return others_.empty() && has_field_ ? &field_ : nullptr; }
-    void count_evaluations(std::size_t particles) override { particle_evaluations_ += particles; }
     bool velocity_free() const override { return velocity_free_; }
 
     // The net force on every particle at (t, x, v), N, pinned ones included:
@@ -78,10 +79,6 @@ public:
 
     // Potential energy of every generator at (t, x, v), J.
     double potential_energy(double t, ConstVec3Span x, ConstVec3Span v) const;
-
-    // Particle-evaluations of the force so far; divided by n it is the number
-    // of whole-system force evaluations (the machine-independent cost).
-    std::uint64_t particle_evaluations() const { return particle_evaluations_; }
 
     // The spring generators' passes, timed while `time` is set (the World's
     // sampled frames; nullptr: not timed, no clock read): wall seconds and
@@ -97,6 +94,9 @@ public:
     void set_wide(bool wide);
 
 private:
+    const SpringPair* spring_pair(std::size_t particles) const {
+        return spring_pair_.spring != nullptr && particles == 2 && spring_time_ == nullptr ? &spring_pair_ : nullptr;
+    }
     // few_ where the block of `particles` is small enough (and the spring
     // clock off), else nullptr.
     const FewSprings* few_springs(std::size_t particles) const {
@@ -147,7 +147,6 @@ private:
     SpringPair spring_pair_;     // one spring (few_'s list of one), with the field; .spring: nullptr where not
     bool springs_last_ = false;  // the last generator outside the field is a planned spring pass
     bool wide_ = false;          // the passes' AVX2 builds (the same bits), where the CPU has it
-    std::uint64_t particle_evaluations_ = 0;
     SpringTime* spring_time_ = nullptr;
     using SpringClock = std::chrono::steady_clock;
 };

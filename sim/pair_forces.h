@@ -21,13 +21,6 @@
 
 namespace sim {
 
-// A force that is, on a system of two particles, Newton's gravity alone,
-// with a uniform field or without (a planet around a pinned sun).
-struct PairGravity {
-    const NewtonGravity* gravity = nullptr;  // nullptr: the force is not that
-    const UniformField* field = nullptr;     // nullptr: none
-};
-
 namespace pair {
 
 // kStill: a particle whose acceleration the caller does not need (RK4's
@@ -95,10 +88,10 @@ template <int kStill = -1, class In, class Out>
 
 // Newton's gravity between the two (accumulate's loop on one pair): 0 gets
 // + f01, 1 gets + (-f01).
-template <class In, class Out>
+template <int kStill = -1, class In, class Out>
 [[gnu::always_inline]] inline void gravity_acceleration(const PairGravity& pair, const In& x, const In& v,
                                                         const double* mass, const double* inv_mass, Out& a) {
-    PairForce f = field(pair.field, v, mass);
+    PairForce f = field<kStill>(pair.field, v, mass);
     const NewtonGravity& gravity = *pair.gravity;
     const double eps2 = gravity.softening * gravity.softening;
     const Vec3 d = Vec3(x[0][1], x[1][1], x[2][1]) - Vec3(x[0][0], x[1][0], x[2][0]);
@@ -109,7 +102,19 @@ template <class In, class Out>
         f.p0.x += f01.x(), f.p0.y += f01.y(), f.p0.z += f01.z();
         f.p1.x += f10.x(), f.p1.y += f10.y(), f.p1.z += f10.z();
     }
-    store(f, inv_mass, a);
+    store<kStill>(f, inv_mass, a);
+}
+
+// Either pair's, by its type (RK4's stages, written once for both).
+template <int kStill, class In, class Out>
+[[gnu::always_inline]] inline void acceleration(const SpringPair& pair, const In& x, const In& v, const double* mass,
+                                                const double* inv_mass, Out& a) {
+    spring_acceleration<kStill>(pair, x, v, mass, inv_mass, a);
+}
+template <int kStill, class In, class Out>
+[[gnu::always_inline]] inline void acceleration(const PairGravity& pair, const In& x, const In& v, const double* mass,
+                                                const double* inv_mass, Out& a) {
+    gravity_acceleration<kStill>(pair, x, v, mass, inv_mass, a);
 }
 
 }  // namespace pair

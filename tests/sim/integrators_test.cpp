@@ -300,6 +300,27 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     }
 }
 
+// RK4 by two Dynamics of the same system from the same (x, v), `steps`
+// steps of h: the same bits for every particle.
+void expect_same_rk4_bits(Dynamics& one, Dynamics& other, const Vec3Array& x0, const Vec3Array& v0, int steps, double h,
+                          Vec3Array& x, Vec3Array& v) {
+    x = x0, v = v0;
+    Vec3Array x2 = x0, v2 = v0, w(x0.size());
+    auto arrays = [&](Vec3Array& xs, Vec3Array& vs) {
+        return StepArrays{.x = xs.span(), .v = vs.span(), .temporaries = &w};
+    };
+    for (int step = 0; step < steps; ++step) {
+        rk4(one, arrays(x, v), h * step, h);
+        rk4(other, arrays(x2, v2), h * step, h);
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bits(x.get(i)[k]), bits(x2.get(i)[k])) << "particle " << i << " axis " << k;
+            EXPECT_EQ(bits(v.get(i)[k]), bits(v2.get(i)[k])) << "particle " << i << " axis " << k;
+        }
+    }
+}
+
 // RK4 on a bead and its anchor (one spring, a field) leaves an anchor at
 // rest out of its arithmetic. Against the general few-particle path (a
 // World's sampled frames take it: the spring pass timed on its own), the
@@ -332,24 +353,12 @@ TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
                     ParticleForces pair(defs, mass, inv_mass), general(defs, mass, inv_mass);
                     ParticleForces::SpringTime timed;
                     general.time_springs(&timed);
-                    ASSERT_NE(pair.spring_pair(2), nullptr);
-                    ASSERT_EQ(general.spring_pair(2), nullptr);
-                    Vec3Array x2 = x, v2 = v, w(2);
-                    for (int step = 0; step < (overflow ? 1 : 200); ++step) {
-                        auto arrays = [&](Vec3Array& xs, Vec3Array& vs) {
-                            return StepArrays{.x = xs.span(), .v = vs.span(), .temporaries = &w};
-                        };
-                        rk4(pair, arrays(x, v), 0.01 * step, 0.01);
-                        rk4(general, arrays(x2, v2), 0.01 * step, 0.01);
-                    }
-                    for (std::size_t i = 0; i < 2; ++i) {
-                        for (int k = 0; k < 3; ++k) {
-                            EXPECT_EQ(bits(x.get(i)[k]), bits(x2.get(i)[k])) << "particle " << i << " axis " << k;
-                            EXPECT_EQ(bits(v.get(i)[k]), bits(v2.get(i)[k])) << "particle " << i << " axis " << k;
-                        }
-                    }
-                    EXPECT_EQ(x2.get(anchor).allFinite(), !overflow) << "the general path's anchor: NaN, or finite";
-                    EXPECT_NE(x.get(bead), Vec3(1.0, 0.2, 0.0)) << "it moved";
+                    ASSERT_NE(pair.pair_path(2).spring, nullptr);
+                    ASSERT_EQ(general.pair_path(2).spring, nullptr);
+                    Vec3Array x1, v1;
+                    expect_same_rk4_bits(pair, general, x, v, overflow ? 1 : 200, 0.01, x1, v1);
+                    EXPECT_EQ(x1.get(anchor).allFinite(), !overflow) << "NaN on both paths, or finite";
+                    EXPECT_NE(x1.get(bead), Vec3(1.0, 0.2, 0.0)) << "it moved";
                 }
             }
         }
@@ -384,6 +393,37 @@ TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
             EXPECT_EQ(bits(one.state().v.get(0)[k]), bits(many.state().v.get(0)[k])) << "axis " << k;
         }
         EXPECT_NE(one.state().x.get(0), one.model().particles[0].position) << "it moved";
+    }
+}
+
+// RK4 on Newton's gravity between two particles (a planet around its sun)
+// evaluates it inline (Dynamics::pair_path's gravity); a Dynamics that only
+// forwards acceleration() takes the general few-particle path instead: the
+// same bits, with the sun pinned (first or second) or free, softened or not,
+// in a field or not.
+TEST(FewParticles, TheGravityPairGivesTheGeneralPathsBits) {
+    for (const bool field : {false, true}) {
+        for (const double softening : {0.0, 0.05}) {
+            for (int pinned = -1; pinned < 2; ++pinned) {
+                SCOPED_TRACE(std::string(field ? "in a field" : "no field") + ", softening " +
+                             std::to_string(softening) + " m, pinned particle " + std::to_string(pinned));
+                std::vector<double> mass = {2.0, 1e-3}, inv_mass = {0.5, 1e3};
+                if (pinned >= 0) inv_mass[static_cast<std::size_t>(pinned)] = 0.0;
+                Vec3Array x(2), v(2);
+                x.set(1, Vec3(0.5, 0.1, 0.0));
+                v.set(1, Vec3(0.0, 2.0, 0.1));
+                std::vector<ForceDef> defs = {NewtonGravity{1.0, softening}};
+                if (field) defs.insert(defs.begin(), UniformGravity{});
+                ParticleForces pair(defs, mass, inv_mass), forwarded(defs, mass, inv_mass);
+                PredictingForces general(forwarded);
+                ASSERT_NE(pair.pair_path(2).gravity, nullptr);
+                ASSERT_EQ(general.pair_path(2).gravity, nullptr);
+                Vec3Array x1, v1;
+                expect_same_rk4_bits(pair, general, x, v, 200, 0.005, x1, v1);
+                EXPECT_TRUE(x1.get(1).allFinite());
+                EXPECT_NE(x1.get(1), Vec3(0.5, 0.1, 0.0)) << "it moved";
+            }
+        }
     }
 }
 
