@@ -97,8 +97,9 @@ void kick_drift_loop(double* __restrict x0, double* __restrict x1, double* __res
 
 // Velocity Verlet's first half: the predicted velocity w = v + h a (when
 // kPredict: a force that reads no velocity needs none), the drift
-// x += h v + (h²/2) a, the kick v += (h/2) a; kWatch: the rules on x.
-template <bool kPredict, bool kWatch>
+// x += h v + (h²/2) a, the kick v += (h/2) a where kKick; kWatch: the rules
+// on x.
+template <bool kPredict, bool kWatch, bool kKick>
 void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double* __restrict x2, double* __restrict v0,
                             double* __restrict v1, double* __restrict v2, const double* __restrict a0,
                             const double* __restrict a1, const double* __restrict a2, double* __restrict w0,
@@ -111,10 +112,32 @@ void verlet_first_half_loop(double* __restrict x0, double* __restrict x1, double
         x0[i] += h * v0[i] + 0.5 * h * h * a0[i];
         x1[i] += h * v1[i] + 0.5 * h * h * a1[i];
         x2[i] += h * v2[i] + 0.5 * h * h * a2[i];
-        v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
+        if constexpr (kKick) v0[i] += (0.5 * h) * a0[i], v1[i] += (0.5 * h) * a1[i], v2[i] += (0.5 * h) * a2[i];
         if constexpr (kWatch) passed += passes_position(x0[i], x1[i], x2[i], box);
     }
     if constexpr (kWatch) watch->suspects += n - passed;
+}
+
+// The same step with the new acceleration a' in an array of its own
+// (StepArrays::a_next): the drift and the prediction first
+// (verlet_first_half_loop without its kick, v untouched), then, after the
+// force, v' = (v + (h/2) a) + (h/2) a' in one pass, the same operations in
+// the same order as the two kicks (the same bits), v written once. kWatch:
+// the rules on v'.
+template <bool kWatch>
+void verlet_kicks_loop(double* __restrict v0, double* __restrict v1, double* __restrict v2, const double* __restrict a0,
+                       const double* __restrict a1, const double* __restrict a2, const double* __restrict b0,
+                       const double* __restrict b1, const double* __restrict b2, std::size_t n, double h,
+                       StepArrays::Watch* __restrict watch) {
+    const double max_speed2 = kWatch ? watch->max_speed2 : 0.0;
+    std::size_t passed = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        v0[i] = (v0[i] + (0.5 * h) * a0[i]) + (0.5 * h) * b0[i];
+        v1[i] = (v1[i] + (0.5 * h) * a1[i]) + (0.5 * h) * b1[i];
+        v2[i] = (v2[i] + (0.5 * h) * a2[i]) + (0.5 * h) * b2[i];
+        if constexpr (kWatch) passed += passes_velocity(v0[i], v1[i], v2[i], max_speed2);
+    }
+    if constexpr (kWatch) watch->suspects += n - passed, watch->counted = true;
 }
 
 // Fills s.a with a(t, x, v) unless it still holds it from the last step.
@@ -222,26 +245,46 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     ensure_acceleration(dynamics, s, t);
-    // A force that reads no velocity is given the half-kicked one: no
-    // prediction to store.
+    // A force that reads no velocity is given v as it is (kicked or not):
+    // no prediction to store.
     const bool predict = !dynamics.velocity_free();
     const Vec3Span v_predicted = predict ? s.scratch(0) : s.v;
-    auto run = [&](auto predict_constant, auto watch_constant) {
+    // With a second acceleration array (the World's), v is written once: the
+    // drift alone, then both kicks in one pass after the force (the same bits).
+    const bool two = s.a_next.n == s.x.n && s.a_next_taken != nullptr;
+    auto first_half = [&](auto predict_constant, auto watch_constant, auto kick_constant) {
         run_at_width(
             s.wide_loops(),
             [](auto... a) {
-                verlet_first_half_loop<decltype(predict_constant)::value, decltype(watch_constant)::value>(a...);
+                verlet_first_half_loop<decltype(predict_constant)::value, decltype(watch_constant)::value,
+                                       decltype(kick_constant)::value>(a...);
             },
             s.x.c[0], s.x.c[1], s.x.c[2], s.v.c[0], s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], v_predicted.c[0],
             v_predicted.c[1], v_predicted.c[2], s.x.n, h, s.watch);
     };
+    auto with_kick = [&](auto predict_constant, auto watch_constant) {
+        two ? first_half(predict_constant, watch_constant, std::false_type{})
+            : first_half(predict_constant, watch_constant, std::true_type{});
+    };
     if (s.watch != nullptr) {
-        predict ? run(std::true_type{}, std::true_type{}) : run(std::false_type{}, std::true_type{});
+        predict ? with_kick(std::true_type{}, std::true_type{}) : with_kick(std::false_type{}, std::true_type{});
     } else {
-        predict ? run(std::true_type{}, std::false_type{}) : run(std::false_type{}, std::false_type{});
+        predict ? with_kick(std::true_type{}, std::false_type{}) : with_kick(std::false_type{}, std::false_type{});
     }
-    dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
-    last_kick(s, 0.5 * h, s.a);
+    if (!two) {
+        dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a);
+        last_kick(s, 0.5 * h, s.a);
+        return;
+    }
+    dynamics.acceleration(t + h, s.first, s.x, v_predicted, s.a_next);
+    auto kicks = [&](auto watch_constant) {
+        run_at_width(
+            s.wide_loops(), [](auto... a) { verlet_kicks_loop<decltype(watch_constant)::value>(a...); }, s.v.c[0],
+            s.v.c[1], s.v.c[2], s.a.c[0], s.a.c[1], s.a.c[2], s.a_next.c[0], s.a_next.c[1], s.a_next.c[2], s.x.n, h,
+            s.watch);
+    };
+    s.watch != nullptr ? kicks(std::true_type{}) : kicks(std::false_type{});
+    *s.a_next_taken = true;
 }
 
 // Position (Störmer) Verlet, order 2:

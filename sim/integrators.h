@@ -35,6 +35,7 @@ enum class Integrator : std::uint8_t {
 enum class Memory : std::uint8_t {
     none,
     acceleration,       // StepArrays::a, first-same-as-last methods
+    two_accelerations,  // StepArrays::a and a_next (velocity Verlet)
     previous_position,  // StepArrays::x_prev, Störmer-Verlet
 };
 
@@ -50,7 +51,15 @@ struct StepArrays {
     Vec3Span v;             // velocity, m/s: advanced in place
     // Integrator memory, carried from one step to the next while the method
     // and h stay the same (memory_valid); otherwise rebuilt from (x, v).
-    Vec3Span a;       // acceleration at (x, v), m/s² (Memory::acceleration only)
+    Vec3Span a;  // acceleration at (x, v), m/s² (Memory::acceleration and two_accelerations)
+    // Memory::two_accelerations: an array where the method may leave the
+    // step's new acceleration instead of writing it over `a` (velocity
+    // Verlet's last kick reads the old and the new together: v is written
+    // once a step, not twice); it then sets *a_next_taken, and the World
+    // keeps a_next as `a` from there on (the two trade places: no copy).
+    // Empty (arrays without it): the method writes over `a`.
+    Vec3Span a_next;
+    bool* a_next_taken = nullptr;
     Vec3Span x_prev;  // position one step back, m (Memory::previous_position only)
     bool memory_valid = false;
     Vec3Array* temporaries = nullptr;  // (the method's scratch_arrays) each of at least x.n points
@@ -126,7 +135,7 @@ inline constexpr std::array<IntegratorInfo, 7> kIntegrators{{
      "semi-implicit Euler: v += h a, then x += h v; symplectic, the games default", &symplectic_euler},
     {Integrator::leapfrog, "leapfrog", 2, 1, 0, Memory::acceleration, false,
      "kick-drift-kick with half-step velocities; symplectic", &leapfrog},
-    {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, Memory::acceleration, false,
+    {Integrator::velocity_verlet, "velocity_verlet", 2, 1, 1, Memory::two_accelerations, false,
      "velocity Verlet: x += h v + h²a/2, v += h (a + a')/2; symplectic", &velocity_verlet},
     {Integrator::position_verlet, "position_verlet", 2, 1, 1, Memory::previous_position, false,
      "Störmer-Verlet: x' = 2x - x_prev + h²a, velocity from positions; symplectic", &position_verlet},

@@ -499,10 +499,12 @@ void World::prepare_step(Integrator integrator) {
         for (std::size_t i = 0; i < scratch_arrays_; ++i) scratch_[i].resize(scratch_block_);
     }
     // Integrator memory is allocated the first time a method that keeps it runs.
-    Vec3Array* memory = info.memory == Memory::acceleration        ? &memory_a_
+    const bool two = info.memory == Memory::two_accelerations;
+    Vec3Array* memory = info.memory == Memory::acceleration || two ? &memory_a_
                         : info.memory == Memory::previous_position ? &memory_x_prev_
                                                                    : nullptr;
     if (memory != nullptr && memory->size() != n) memory->resize(n);
+    if (two && memory_a_next_.size() != n) memory_a_next_.resize(n);
     // Pinned particles: edit_state and restore prepare again, and so does a
     // contained range (it pins); an emitter's birth only unpins, which leaves
     // a false "no" here, the safe side.
@@ -516,7 +518,10 @@ StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, st
     return {.first = first,
             .x = state_.x.span().block(first, count),
             .v = state_.v.span().block(first, count),
-            .a = info.memory == Memory::acceleration ? memory_a_.span().block(first, count) : Vec3Span{},
+            .a = info.memory == Memory::acceleration || info.memory == Memory::two_accelerations
+                     ? memory_a_.span().block(first, count)
+                     : Vec3Span{},
+            .a_next = info.memory == Memory::two_accelerations ? memory_a_next_.span().block(first, count) : Vec3Span{},
             .x_prev = info.memory == Memory::previous_position ? memory_x_prev_.span().block(first, count) : Vec3Span{},
             .memory_valid = false,
             .temporaries = scratch_.data(),
@@ -528,22 +533,23 @@ StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, st
 // One block's step; the suspects the watchdog's per-particle rules found in
 // it (0 unless watch_blocks): inside a fused pass where the method has one,
 // else in a pass of their own, while the block is still in cache.
-std::size_t World::step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks) {
+std::size_t World::step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks, bool& taken) {
     StepArrays::Watch watch{watchdog_.max_speed * watchdog_.max_speed, watchdog_.world_half_extent};
     s.memory_valid = memory_valid_;
     s.watch = watch_blocks ? &watch : nullptr;
+    s.a_next_taken = &taken;
     info.step(forces_, s, state_.t, h);
-    s.watch = nullptr;  // (a local's address)
+    s.watch = nullptr, s.a_next_taken = nullptr;  // (locals' addresses)
     if (!watch_blocks) return 0;
     return watch.counted ? watch.suspects : count_suspects(watchdog_, s.x, s.v);
 }
 
-std::size_t World::step_blocks(const IntegratorInfo& info, double h, bool watch_blocks) {
+std::size_t World::step_blocks(const IntegratorInfo& info, double h, bool watch_blocks, bool& taken) {
     std::size_t suspects = 0;
     const std::size_t n = state_.size();
     for (std::size_t first = 0; first < n; first += prepared_.block) {
         StepArrays s = block_arrays(info, first, std::min(prepared_.block, n - first));
-        suspects += step_block(info, s, h, watch_blocks);
+        suspects += step_block(info, s, h, watch_blocks, taken);
     }
     return suspects;
 }
@@ -556,8 +562,14 @@ std::size_t World::step_blocks(const IntegratorInfo& info, double h, bool watch_
     if (prepared_.info == nullptr || prepared_.info->id != integrator || prepared_.n != n) prepare_step(integrator);
     const IntegratorInfo& info = *prepared_.info;
     // One block (every small system): its arrays as prepare_step built them.
-    const std::size_t suspects = n > 0 && n <= prepared_.block ? step_block(info, prepared_.whole, h, watch_blocks)
-                                                               : step_blocks(info, h, watch_blocks);
+    bool taken = false;  // the method left the new acceleration in a_next (every block alike)
+    const std::size_t suspects = n > 0 && n <= prepared_.block
+                                     ? step_block(info, prepared_.whole, h, watch_blocks, taken)
+                                     : step_blocks(info, h, watch_blocks, taken);
+    if (taken) {
+        std::swap(memory_a_, memory_a_next_);  // the vectors' buffers trade places: the spans follow by hand
+        std::swap(prepared_.whole.a, prepared_.whole.a_next);
+    }
     watched_suspects_ = watch_blocks ? std::optional<std::size_t>(suspects) : std::nullopt;
 
     state_.t += h;

@@ -234,9 +234,11 @@ private:
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     inline void step_once(Integrator integrator, double h, bool watch_blocks);  // defined in world.cpp only
-    // step_once's one block (the watchdog's suspects in it), and every block.
-    std::size_t step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks);
-    std::size_t step_blocks(const IntegratorInfo& info, double h, bool watch_blocks);
+    // step_once's one block (the watchdog's suspects in it), and every block;
+    // `taken` set when the method left its new acceleration in s.a_next
+    // (StepArrays::a_next_taken).
+    std::size_t step_block(const IntegratorInfo& info, StepArrays& s, double h, bool watch_blocks, bool& taken);
+    std::size_t step_blocks(const IntegratorInfo& info, double h, bool watch_blocks, bool& taken);
     // step_once's scratch, memory and (one block) arrays for the method, built
     // again when the method or the particle count changes, the arrays may
     // have moved (edit_state, restore), or the widths changed (set_wide).
@@ -274,6 +276,7 @@ private:
 
     // Integrator memory and scratch (see StepArrays).
     Vec3Array memory_a_;
+    Vec3Array memory_a_next_;  // Memory::two_accelerations: where the next step's a is written
     Vec3Array memory_x_prev_;
     std::vector<Vec3Array> scratch_;
     std::size_t scratch_arrays_ = 0, scratch_block_ = 0;  // scratch_[0, scratch_arrays_) hold scratch_block_ points

@@ -133,19 +133,28 @@ private:
     ParticleForces& forces_;
 };
 
-TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
-    for (const std::size_t n : {std::size_t{3}, std::size_t{40}}) {  // the few-particle path and the wide one
-        std::vector<double> mass, inv_mass;
-        Vec3Array x(n), v(n);
-        Springs springs;
+// n particles, the first pinned, each other on a spring to it (rest length
+// 0 or 0.7 m, 40 N/m, a damper of `damping` N·s/m), all moving.
+struct Fan {
+    std::vector<double> mass, inv_mass;
+    Vec3Array x, v;
+    Springs springs;
+    Fan(std::size_t n, double damping) : x(n), v(n) {
         for (std::size_t i = 0; i < n; ++i) {
             const double s = static_cast<double>(i);
             mass.push_back(1.0 + 0.1 * s);
             inv_mass.push_back(i == 0 ? 0.0 : 1.0 / mass.back());
             x.set(i, Vec3(1.0 + 0.3 * s, std::sin(s), 0.1 * s));
             v.set(i, Vec3(std::cos(s), 0.5, -0.2 * s));
-            if (i > 0) springs.list.push_back({0, static_cast<std::uint32_t>(i), i % 2 ? 0.0 : 0.7, 40.0, 0.0});
+            if (i > 0) springs.list.push_back({0, static_cast<std::uint32_t>(i), i % 2 ? 0.0 : 0.7, 40.0, damping});
         }
+    }
+};
+
+TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
+    for (const std::size_t n : {std::size_t{3}, std::size_t{40}}) {  // the few-particle path and the wide one
+        Fan fan(n, 0.0);
+        auto& [mass, inv_mass, x, v, springs] = fan;
         const std::vector<ForceDef> defs = {UniformGravity{}, springs, CentralGravity{Vec3(0.0, -3.0, 0.0), 5.0}};
         ParticleForces forces(defs, mass, inv_mass);
         ASSERT_TRUE(forces.velocity_free());
@@ -179,6 +188,64 @@ TEST(VelocityFree, VelocityVerletSkipsThePredictionWithTheSameBits) {
     EXPECT_FALSE(ParticleForces(with_drag, mass, inv_mass).velocity_free());
 }
 
+std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
+
+// Velocity Verlet given a second acceleration array (StepArrays::a_next, as
+// the World gives it) writes v once a step instead of twice: the same bits
+// as without, on the few-particle path and the wide one, with a force that
+// reads v (a damper: the predicted velocity) and one that does not, and the
+// same count from the watchdog's rules (a box that some particles leave).
+TEST(VelocityVerlet, ItsSecondAccelerationArrayGivesTheSameBits) {
+    for (const bool damped : {false, true}) {
+        for (const std::size_t n : {std::size_t{3}, std::size_t{40}}) {
+            SCOPED_TRACE(std::to_string(n) + (damped ? " particles, dampers" : " particles, no damper"));
+            Fan fan(n, damped ? 0.3 : 0.0);
+            auto& [mass, inv_mass, x, v, springs] = fan;
+            const std::vector<ForceDef> defs = {UniformGravity{}, springs};
+            ParticleForces forces(defs, mass, inv_mass);
+            ASSERT_EQ(forces.velocity_free(), !damped);
+            Vec3Array x2 = x, v2 = v, a(n), a2(n), a_next(n), w(n);
+            std::size_t suspects = 0, suspects2 = 0;
+            for (int step = 0; step < 50; ++step) {
+                StepArrays::Watch watch{4.0, 3.0}, watch2 = watch;  // m²/s², m: some particles fail
+                bool taken = false;
+                velocity_verlet(forces,
+                                {.x = x.span(),
+                                 .v = v.span(),
+                                 .a = a.span(),
+                                 .a_next = a_next.span(),
+                                 .a_next_taken = &taken,
+                                 .memory_valid = step > 0,
+                                 .temporaries = &w,
+                                 .wide = avx2_available(),
+                                 .watch = &watch},
+                                0.01 * step, 0.01);
+                ASSERT_TRUE(taken);
+                std::swap(a, a_next);
+                velocity_verlet(forces,
+                                {.x = x2.span(),
+                                 .v = v2.span(),
+                                 .a = a2.span(),
+                                 .memory_valid = step > 0,
+                                 .temporaries = &w,
+                                 .wide = avx2_available(),
+                                 .watch = &watch2},
+                                0.01 * step, 0.01);
+                suspects += watch.suspects, suspects2 += watch2.suspects;
+            }
+            EXPECT_EQ(suspects, suspects2);
+            EXPECT_GT(suspects, 0u) << "the box and the speed limit catch some";
+            for (std::size_t i = 0; i < n; ++i) {
+                for (int k = 0; k < 3; ++k) {
+                    EXPECT_EQ(bits(x.get(i)[k]), bits(x2.get(i)[k])) << "particle " << i << " axis " << k;
+                    EXPECT_EQ(bits(v.get(i)[k]), bits(v2.get(i)[k])) << "particle " << i << " axis " << k;
+                    EXPECT_EQ(bits(a.get(i)[k]), bits(a2.get(i)[k])) << "particle " << i << " axis " << k;
+                }
+            }
+        }
+    }
+}
+
 // A few particles (at most StepArrays::kFewParticles) take their own paths:
 // RK4's stages on the stack, and the force of one spring list (with a field
 // or not) on at most kFewSpringParticles evaluated straight. The same
@@ -204,8 +271,6 @@ enum class FewShape {
     two_beads,
     chain
 };
-
-std::uint64_t bits(double value) { return std::bit_cast<std::uint64_t>(value); }
 
 ParticleModel few_beads(std::size_t extra, FewField field, FewShape shape) {
     ParticleModel model;
