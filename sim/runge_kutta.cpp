@@ -315,11 +315,12 @@ void pair_runge_kutta(const StepArrays& s, const Pair& pair, const PairPath& pat
                       std::index_sequence<I...> stages) {
     const double* mass = path.mass + s.first;
     const double* inv_mass = path.inv_mass + s.first;
-    const int still = kLeavesStillOut<Pair> ? still_particle<kTableau>(s, pair, mass, inv_mass) : -1;
-    const bool done = still == 0   ? pair_step<kTableau, 0>(s, pair, mass, inv_mass, h, stages)
-                      : still == 1 ? pair_step<kTableau, 1>(s, pair, mass, inv_mass, h, stages)
-                                   : false;
-    if (!done) pair_step<kTableau, -1>(s, pair, mass, inv_mass, h, stages);
+    if constexpr (kLeavesStillOut<Pair>) {  // (else those builds are not compiled at all)
+        const int still = still_particle<kTableau>(s, pair, mass, inv_mass);
+        if (still == 0 && pair_step<kTableau, 0>(s, pair, mass, inv_mass, h, stages)) return;
+        if (still == 1 && pair_step<kTableau, 1>(s, pair, mass, inv_mass, h, stages)) return;
+    }
+    pair_step<kTableau, -1>(s, pair, mass, inv_mass, h, stages);
 }
 
 template <const auto& kTableau, std::size_t kN, std::size_t... I>

@@ -430,19 +430,20 @@ TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
     }
 }
 
-// One particle alone (RK4's stack path) and inside 20 more, all
-// pulled towards one fixed point (central gravity: not a uniform field, so
-// no fused pass): the same bits.
+// Orbiters [first, first + n) of a family, all pulled towards one fixed
+// point (central gravity: local, and not a uniform field, so no fused pass).
+ParticleModel orbiters(std::size_t n, std::size_t first = 0) {
+    ParticleModel model;
+    for (std::size_t i = first; i < first + n; ++i) {
+        const double s = static_cast<double>(i);
+        model.particles.push_back({Vec3(1.0 + 0.1 * s, 0.2 * s, -0.1), Vec3(0.1, 1.0, 0.05 * s), 1.0, false});
+    }
+    model.forces.push_back(CentralGravity{Vec3(0.0, 0.0, 0.0), 1.0});
+    return model;
+}
+
+// One particle alone (RK4's stack path) and inside 20 more: the same bits.
 TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
-    auto orbiters = [](std::size_t n) {
-        ParticleModel model;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double s = static_cast<double>(i);
-            model.particles.push_back({Vec3(1.0 + 0.1 * s, 0.2 * s, -0.1), Vec3(0.1, 1.0, 0.05 * s), 1.0, false});
-        }
-        model.forces.push_back(CentralGravity{Vec3(0.0, 0.0, 0.0), 1.0});
-        return model;
-    };
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         SCOPED_TRACE(info.name);
@@ -458,6 +459,28 @@ TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
             EXPECT_EQ(bits(one.state().v.get(0)[k]), bits(many.state().v.get(0)[k])) << "axis " << k;
         }
         EXPECT_NE(one.state().x.get(0), one.model().particles[0].position) << "it moved";
+    }
+}
+
+// A system of local forces larger than a block is stepped block by block,
+// each block's arrays built from the World's (velocity Verlet's two
+// acceleration arrays trading places after every step): the last orbiter
+// of 1100 (in the second block) gets the bits it gets alone.
+TEST(FewParticles, TheLastBlocksParticleGivesItsBitsAlone) {
+    for (const IntegratorInfo& info : kIntegrators) {
+        if (info.needs_jacobians) continue;
+        SCOPED_TRACE(info.name);
+        World alone(orbiters(1, 1099)), many(orbiters(1100));
+        for (int i = 0; i < 60; ++i) {
+            alone.step({info.id, 1.0 / 60.0, 2});
+            many.step({info.id, 1.0 / 60.0, 2});
+        }
+        ASSERT_FALSE(many.verdict().exploded()) << many.verdict().message("many");
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bits(alone.state().x.get(0)[k]), bits(many.state().x.get(1099)[k])) << "axis " << k;
+            EXPECT_EQ(bits(alone.state().v.get(0)[k]), bits(many.state().v.get(1099)[k])) << "axis " << k;
+        }
+        EXPECT_NE(alone.state().x.get(0), alone.model().particles[0].position) << "it moved";
     }
 }
 
