@@ -136,8 +136,7 @@ void ParticleForces::field_pass(const ForceInput& in, const Vec3Span& out, bool 
 
 namespace {
 
-// f = 0: one fill when the three components lie end to end (a whole
-// Vec3Array, the usual case), else one per component. A few particles are
+// f = 0, one component at a time. A few particles are
 // stored one value at a time: memset's wide (or string) stores cannot be
 // forwarded to the scalar loads of the spring pass that follows, which then
 // waits for them to retire (a third of a one-spring evaluation, measured).
@@ -147,10 +146,6 @@ inline void zero(const Vec3Span& f) {
         for (std::size_t i = 0; i < kFew; ++i) {
             if (i < f.n) f.c[0][i] = f.c[1][i] = f.c[2][i] = 0.0;
         }
-        return;
-    }
-    if (f.c[1] == f.c[0] + f.n && f.c[2] == f.c[1] + f.n) {
-        std::fill(f.c[0], f.c[0] + 3 * f.n, 0.0);
         return;
     }
     for (int k = 0; k < 3; ++k) std::fill(f.c[k], f.c[k] + f.n, 0.0);

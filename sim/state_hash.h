@@ -32,7 +32,8 @@ private:
 // either changing changes the result.
 constexpr std::uint64_t fold_hashes(std::uint64_t a, std::uint64_t b) { return (a ^ b) * Fnv1a::kPrime; }
 
-// FNV-1a over t, then x and v (their raw arrays).
+// FNV-1a over t, then x and v (each as 3n doubles: all x, then all y, then
+// all z; the padding between components is not hashed).
 std::uint64_t state_hash(const ParticleState& state);
 
 }  // namespace sim

@@ -48,7 +48,7 @@ public:
     }
     void vec3s(const sim::Vec3Array& a) {
         u64(a.size());
-        doubles(a.raw().data(), a.raw().size());
+        for (const double* c : a.span().c) doubles(c, a.size());  // all x, then all y, then all z
     }
     void vec(const Eigen::Vector3d& v) { doubles(v.data(), 3); }
     void quat(const Eigen::Quaterniond& q) { f64(q.w()), f64(q.x()), f64(q.y()), f64(q.z()); }
@@ -150,7 +150,7 @@ public:
     }
     sim::Vec3Array vec3s() {
         sim::Vec3Array a(count());
-        doubles(a.span().c[0], 3 * a.size());  // the three blocks lie end to end
+        for (double* c : a.span().c) doubles(c, a.size());
         return a;
     }
     Eigen::Vector3d vec() {

@@ -58,7 +58,7 @@ void Cloth64(benchmark::State& state) {
     }
     for (auto _ : state) {
         world.step({sim::Integrator::symplectic_euler, kDt, 1});
-        benchmark::DoNotOptimize(world.state().x.raw().data());
+        benchmark::DoNotOptimize(world.state().x.span().c[0]);
     }
     if (!bench::still_running(state, world, state.iterations(), "cloth64")) return;
     state.counters["springs"] = static_cast<double>(springs);
@@ -87,7 +87,7 @@ void SpringPass64(benchmark::State& state) {
     const sim::ForceInput in{0.0, 0, now.x.span(), now.v.span(), now.mass.data(), now.inv_mass.data()};
     for (auto _ : state) {
         sim::accumulate(*springs, plan, in, f.span());
-        benchmark::DoNotOptimize(f.raw().data());
+        benchmark::DoNotOptimize(f.span().c[0]);
     }
     state.SetLabel(wide ? "AVX2" : "pinned x86-64-v2");
 }
@@ -97,7 +97,7 @@ void Cloth64Xpbd(benchmark::State& state) {
     sim::World world(cloth(sim::LinkSettings::Kind::constraints));
     for (auto _ : state) {
         world.step({sim::Integrator::symplectic_euler, kDt, 1});
-        benchmark::DoNotOptimize(world.state().x.raw().data());
+        benchmark::DoNotOptimize(world.state().x.span().c[0]);
     }
     if (!bench::still_running(state, world, state.iterations(), "cloth64 (XPBD)")) return;
     state.counters["steps_per_s"] =
@@ -182,7 +182,7 @@ void Fountain10k(benchmark::State& state) {
     for (int i = 0; i < kWarmUp; ++i) world.step(frame);
     for (auto _ : state) {
         world.step(frame);
-        benchmark::DoNotOptimize(world.state().x.raw().data());
+        benchmark::DoNotOptimize(world.state().x.span().c[0]);
     }
     if (!bench::still_running(state, world, kWarmUp + state.iterations(), "fountain10k")) return;
     state.counters["contacts"] = static_cast<double>(world.contacts());

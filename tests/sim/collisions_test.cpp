@@ -135,7 +135,7 @@ TEST(Collisions, ManyParticlesInAHeapNeverOverlapMuchAndAreDeterministic) {
         a.step({Integrator::symplectic_euler, 1.0 / 60.0, 4});
         b.step({Integrator::symplectic_euler, 1.0 / 60.0, 4});
     }
-    EXPECT_EQ(a.state().x.raw(), b.state().x.raw());
+    EXPECT_EQ(a.state().x.flat(), b.state().x.flat());
     EXPECT_FALSE(a.verdict().exploded()) << a.verdict().message("heap");
     for (std::size_t i = 0; i < a.state().size(); ++i) {
         ASSERT_GE(a.state().x.get(i).y(), 0.02 - 1e-9) << "m: particle " << i << " below the ground";

@@ -86,14 +86,14 @@ TEST(Emitter, ACallOverManyLifetimesMakesOnlyTheLastWithTheSameBits) {
     ParticleState chunked = make_state(model_of(e).particles), whole = chunked;
     for (int w = 0; w < 200; ++w) emit(e, 0.5 * w, 0.5 * (w + 1), chunked);
     EXPECT_EQ(emit(e, 0.0, 100.0, whole), 10'000u) << "births in 100 s at 100/s";
-    EXPECT_EQ(whole.x.raw(), chunked.x.raw());
-    EXPECT_EQ(whole.v.raw(), chunked.v.raw());
+    EXPECT_EQ(whole.x.flat(), chunked.x.flat());
+    EXPECT_EQ(whole.v.flat(), chunked.v.flat());
     EXPECT_EQ(whole.inv_mass, chunked.inv_mass);
 
     ParticleState far = make_state(model_of(e).particles), last = far;
     EXPECT_EQ(emit(e, 0.0, 1e12, far), 100'000'000'000'000u);
     EXPECT_EQ(emit(e, 1e12 - 0.5, 1e12, last), 50u) << "the last lifetime";
-    EXPECT_EQ(far.v.raw(), last.v.raw());
+    EXPECT_EQ(far.v.flat(), last.v.flat());
     EXPECT_THROW(emit(e, 0.0, 1e14, far), InputError) << "1e16 births: beyond 2^53";
 }
 
@@ -104,8 +104,8 @@ TEST(Emitter, AReplayGivesTheSameBits) {
     for (int i = 0; i < 30; ++i) b.step({Integrator::symplectic_euler, 1.0 / 60.0, 2});
     b.restore(start);
     for (int i = 0; i < 90; ++i) b.step({Integrator::symplectic_euler, 1.0 / 60.0, 2});
-    EXPECT_EQ(a.state().x.raw(), b.state().x.raw());
-    EXPECT_EQ(a.state().v.raw(), b.state().v.raw());
+    EXPECT_EQ(a.state().x.flat(), b.state().x.flat());
+    EXPECT_EQ(a.state().v.flat(), b.state().v.flat());
 }
 
 }  // namespace

@@ -104,8 +104,8 @@ TEST(Spring, ZeroLengthGivesNoNaN) {
 
 // The same doubles to the last bit (NaN payloads and the sign of zero included).
 bool same_bits(const Vec3Array& a, const Vec3Array& b) {
-    return a.raw().size() == b.raw().size() &&
-           std::memcmp(a.raw().data(), b.raw().data(), a.raw().size() * sizeof(double)) == 0;
+    const std::vector<double> fa = a.flat(), fb = b.flat();
+    return fa.size() == fb.size() && std::memcmp(fa.data(), fb.data(), fa.size() * sizeof(double)) == 0;
 }
 
 TEST(Spring, FastPassGivesTheReferenceLoopsBits) {

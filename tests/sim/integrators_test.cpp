@@ -83,7 +83,7 @@ TEST_P(EveryIntegrator, SameResultEveryRun) {
         for (int i = 0; i < 100; ++i) {
             world.step({GetParam(), 1.0 / 120.0, 1});
         }
-        return world.state().x.raw();
+        return world.state().x.flat();
     };
     EXPECT_EQ(run(), run()) << "bit-identical positions";
 }

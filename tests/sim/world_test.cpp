@@ -73,7 +73,7 @@ TEST(Substeps, AreStepsOfDtOverSubsteps) {
             b.step({Integrator::rk4, 0.01, 1});
         }
     }
-    EXPECT_EQ(a.state().x.raw(), b.state().x.raw()) << "bit-identical";
+    EXPECT_EQ(a.state().x.flat(), b.state().x.flat()) << "bit-identical";
     EXPECT_EQ(a.steps(), 200u);
 }
 
@@ -128,8 +128,8 @@ TEST_P(Blocks, BlockByBlockEqualsWholeSystem) {
                 blocked.step({GetParam(), 1.0 / 60.0, 2});
                 whole.step({GetParam(), 1.0 / 60.0, 2});
             }
-            EXPECT_EQ(bits(blocked.state().x.raw()), bits(whole.state().x.raw())) << "bit-exact";
-            EXPECT_EQ(bits(blocked.state().v.raw()), bits(whole.state().v.raw())) << "bit-exact";
+            EXPECT_EQ(bits(blocked.state().x.flat()), bits(whole.state().x.flat())) << "bit-exact";
+            EXPECT_EQ(bits(blocked.state().v.flat()), bits(whole.state().v.flat())) << "bit-exact";
         }
     }
 }
@@ -182,8 +182,8 @@ TEST_P(Widths, AvxBuildsGiveThePinnedBuildsBits) {
             pinned.step({GetParam(), 1.0 / 60.0, 4});
         }
         ASSERT_FALSE(wide.verdict().exploded()) << wide.verdict().message("the wide run");
-        EXPECT_EQ(wide.state().x.raw(), pinned.state().x.raw()) << "bit-exact";
-        EXPECT_EQ(wide.state().v.raw(), pinned.state().v.raw()) << "bit-exact";
+        EXPECT_EQ(wide.state().x.flat(), pinned.state().x.flat()) << "bit-exact";
+        EXPECT_EQ(wide.state().v.flat(), pinned.state().v.flat()) << "bit-exact";
     }
 }
 
@@ -218,8 +218,8 @@ TEST(BackwardEuler, DiagonalSolveEqualsTheSparseSolve) {
                 }
                 const std::string what =
                     gravity_name(g) + ", c = " + std::to_string(c) + " N·s/m" + (pins ? ", pins" : "");
-                EXPECT_EQ(bits(diagonal.state().x.raw()), bits(sparse.state().x.raw())) << what << ", bit-exact";
-                EXPECT_EQ(bits(diagonal.state().v.raw()), bits(sparse.state().v.raw())) << what << ", bit-exact";
+                EXPECT_EQ(bits(diagonal.state().x.flat()), bits(sparse.state().x.flat())) << what << ", bit-exact";
+                EXPECT_EQ(bits(diagonal.state().v.flat()), bits(sparse.state().v.flat())) << what << ", bit-exact";
                 EXPECT_EQ(diagonal.force_evaluations(), sparse.force_evaluations());
             }
         }
@@ -463,7 +463,7 @@ TEST(Rewind, PlasticRestLengthsAndRigidBodiesAreRewoundToo) {
         world.step(step);
         straight.step(step);
     }
-    EXPECT_EQ(world.state().x.raw(), straight.state().x.raw());
+    EXPECT_EQ(world.state().x.flat(), straight.state().x.flat());
     EXPECT_EQ(world.rigid()->hash(), straight.rigid()->hash());
 }
 

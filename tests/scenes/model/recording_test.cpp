@@ -101,8 +101,8 @@ TEST_F(RecordingFile, ReadsBackWhatWasWritten) {
         const sim::World::Snapshot &a = rec.states[k].second, &b = back.states[k].second;
         EXPECT_EQ(back.states[k].first, rec.states[k].first);
         EXPECT_EQ(b.state.t, a.state.t);
-        EXPECT_EQ(b.state.x.raw(), a.state.x.raw()) << "bit-exact";
-        EXPECT_EQ(b.state.v.raw(), a.state.v.raw()) << "bit-exact";
+        EXPECT_EQ(b.state.x.flat(), a.state.x.flat()) << "bit-exact";
+        EXPECT_EQ(b.state.v.flat(), a.state.v.flat()) << "bit-exact";
         EXPECT_EQ(b.state.inv_mass, a.state.inv_mass);
         EXPECT_EQ(b.steps, a.steps);
         EXPECT_EQ(b.memory_integrator, a.memory_integrator);
@@ -114,7 +114,7 @@ TEST_F(RecordingFile, ReadsBackWhatWasWritten) {
     from_state.restore(back.states[1].second);  // frame 4
     for (int f = 0; f < 8; ++f) from_start.step(scene.step);
     for (int f = 4; f < 8; ++f) from_state.step(scene.step);
-    EXPECT_EQ(from_state.state().x.raw(), from_start.state().x.raw()) << "bit-exact";
+    EXPECT_EQ(from_state.state().x.flat(), from_start.state().x.flat()) << "bit-exact";
 }
 
 TEST_F(RecordingFile, BadFilesAreRefusedNamingTheFile) {
