@@ -21,6 +21,7 @@
 
 #include "sim/cpu.h"
 #include "sim/fused_pass.h"
+#include "sim/pair_forces.h"
 #include "sim/watchdog.h"
 
 #include <algorithm>
@@ -226,6 +227,58 @@ void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     last_kick(s, 0.5 * h, s.a);
 }
 
+namespace {
+
+// Velocity Verlet on a pair (a bead on its spring, a planet around its sun:
+// Dynamics::pair_path), the force inline (sim/pair_forces.h) as RK4's pair
+// step has it, the step in registers: on each of the two particles the
+// operations of the loops above in their order (the drift and the
+// prediction, then v' = (v + (h/2) a) + (h/2) a', the two kicks'), so the
+// same bits; a' kept where the general path keeps it (a_next where the
+// World gives a second array), the watchdog's rules counted alike. The
+// force always sees the predicted velocity: one that reads none gives the
+// same bits either way.
+template <class Pair>
+void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
+    const double* mass = path.mass + s.first;
+    const double* inv_mass = path.inv_mass + s.first;
+    if (!s.memory_valid) {
+        pair::acceleration<-1>(pair, s.x.c, s.v.c, mass, inv_mass, s.a.c);
+        dynamics.count_evaluations(2);
+    }
+    // Every value read first, every one written last: the stores cannot
+    // alias the loads then, and the arithmetic stays in registers.
+    double x[3][2], v[3][2], a[3][2], w[3][2], b[3][2];  // x', v, a, the predicted velocity, a'
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) {
+            x[k][p] = s.x.c[k][p], v[k][p] = s.v.c[k][p], a[k][p] = s.a.c[k][p];
+            w[k][p] = v[k][p] + h * a[k][p];
+            x[k][p] += h * v[k][p] + 0.5 * h * h * a[k][p];
+        }
+    }
+    pair::acceleration<-1>(pair, x, w, mass, inv_mass, b);
+    dynamics.count_evaluations(2);
+    const bool two = s.a_next.n == 2 && s.a_next_taken != nullptr;
+    const Vec3Span& kept = two ? s.a_next : s.a;
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) v[k][p] = (v[k][p] + (0.5 * h) * a[k][p]) + (0.5 * h) * b[k][p];
+    }
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p], s.v.c[k][p] = v[k][p], kept.c[k][p] = b[k][p];
+    }
+    if (two) *s.a_next_taken = true;
+    if (s.watch != nullptr) {
+        std::size_t passed = 0;
+        for (int p = 0; p < 2; ++p) {
+            passed += passes_position(x[0][p], x[1][p], x[2][p], s.watch->box);
+            passed += passes_velocity(v[0][p], v[1][p], v[2][p], s.watch->max_speed2);
+        }
+        s.watch->suspects += 4 - passed, s.watch->counted = true;
+    }
+}
+
+}  // namespace
+
 // Velocity Verlet, order 2:
 //   x' = x + h v + (h²/2) a
 //   a' = a(t + h, x', v + h a)
@@ -244,6 +297,15 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
         v = v + (0.5 * h) * a;
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
+    if (s.x.n == 2) {
+        if (const PairPath path = dynamics.pair_path(2); path.spring != nullptr) {
+            pair_velocity_verlet(dynamics, s, *path.spring, path, h);
+            return;
+        } else if (path.gravity != nullptr) {
+            pair_velocity_verlet(dynamics, s, *path.gravity, path, h);
+            return;
+        }
+    }
     ensure_acceleration(dynamics, s, t);
     // A force that reads no velocity is given v as it is (kicked or not):
     // no prediction to store.

@@ -365,35 +365,55 @@ TEST(FewParticles, TheirPathsGiveTheArrayPathsBits) {
     }
 }
 
-// RK4 by two Dynamics of the same system from the same (x, v), `steps`
-// steps of h: the same bits for every particle.
-void expect_same_rk4_bits(Dynamics& one, Dynamics& other, const Vec3Array& x0, const Vec3Array& v0, int steps, double h,
-                          Vec3Array& x, Vec3Array& v) {
-    x = x0, v = v0;
-    Vec3Array x2 = x0, v2 = v0, w(x0.size());
-    auto arrays = [&](Vec3Array& xs, Vec3Array& vs) {
-        return StepArrays{.x = xs.span(), .v = vs.span(), .temporaries = &w};
+// `method` by two Dynamics of the same system from the same (x, v),
+// `steps` steps of h, each side's acceleration kept as the World keeps it
+// (two arrays that trade places when the method takes the second): the same
+// bits for every particle. x, v: the first side's at the end.
+void expect_same_bits(StepFn method, Dynamics& one, Dynamics& other, const Vec3Array& x0, const Vec3Array& v0,
+                      int steps, double h, Vec3Array& x, Vec3Array& v) {
+    struct Side {
+        Dynamics& dynamics;
+        Vec3Array x, v, a, a_next;
     };
+    const std::size_t n = x0.size();
+    Side sides[2] = {{one, x0, v0, Vec3Array(n), Vec3Array(n)}, {other, x0, v0, Vec3Array(n), Vec3Array(n)}};
+    Vec3Array w(n);
     for (int step = 0; step < steps; ++step) {
-        rk4(one, arrays(x, v), h * step, h);
-        rk4(other, arrays(x2, v2), h * step, h);
-    }
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        for (int k = 0; k < 3; ++k) {
-            EXPECT_EQ(bits(x.get(i)[k]), bits(x2.get(i)[k])) << "particle " << i << " axis " << k;
-            EXPECT_EQ(bits(v.get(i)[k]), bits(v2.get(i)[k])) << "particle " << i << " axis " << k;
+        for (Side& side : sides) {
+            bool taken = false;
+            method(side.dynamics,
+                   StepArrays{.x = side.x.span(),
+                              .v = side.v.span(),
+                              .a = side.a.span(),
+                              .a_next = side.a_next.span(),
+                              .a_next_taken = &taken,
+                              .memory_valid = step > 0,
+                              .temporaries = &w},
+                   h * step, h);
+            if (taken) std::swap(side.a, side.a_next);
         }
     }
+    for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_EQ(bits(sides[0].x.get(i)[k]), bits(sides[1].x.get(i)[k])) << "particle " << i << " axis " << k;
+            EXPECT_EQ(bits(sides[0].v.get(i)[k]), bits(sides[1].v.get(i)[k])) << "particle " << i << " axis " << k;
+        }
+    }
+    x = sides[0].x, v = sides[0].v;
 }
 
+// The methods with a pair path (the force inline, sim/pair_forces.h).
+const std::pair<const char*, StepFn> kPairMethods[] = {{"RK4", rk4}, {"velocity Verlet", velocity_verlet}};
+
 // RK4 on a bead and its anchor (one spring, a field) leaves an anchor at
-// rest out of its arithmetic. Against the general few-particle path (a
-// World's sampled frames take it: the spring pass timed on its own), the
-// same bits: the anchor at rest, moving (pinned particles' velocities are
-// 0 in a World, but the step does not assume it) or at -0 on two axes,
-// first or second, the spring listed either way, over 200 steps; and on a
-// step that overflows (a spring of 1e300 N/m), where the general path's
-// anchor goes NaN (f 0), so the pair's must too.
+// rest out of its arithmetic; velocity Verlet steps the pair inline too.
+// Against the general few-particle path (a World's sampled frames take it:
+// the spring pass timed on its own), the same bits: the anchor at rest,
+// moving (pinned particles' velocities are 0 in a World, but the step does
+// not assume it) or at -0 on two axes, first or second, the spring listed
+// either way, over 200 steps; and on a step that overflows (a spring of
+// 1e300 N/m), where the general path's anchor goes NaN (f 0), so the
+// pair's must too.
 TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
     const char* anchors[] = {"at rest", "moving", "at -0"};
     for (const bool overflow : {false, true}) {
@@ -420,13 +440,59 @@ TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
                     general.time_springs(&timed);
                     ASSERT_NE(pair.pair_path(2).spring, nullptr);
                     ASSERT_EQ(general.pair_path(2).spring, nullptr);
-                    Vec3Array x1, v1;
-                    expect_same_rk4_bits(pair, general, x, v, overflow ? 1 : 200, 0.01, x1, v1);
-                    EXPECT_EQ(x1.get(anchor).allFinite(), !overflow) << "NaN on both paths, or finite";
-                    EXPECT_NE(x1.get(bead), Vec3(1.0, 0.2, 0.0)) << "it moved";
+                    for (const auto& [name, method] : kPairMethods) {
+                        SCOPED_TRACE(name);
+                        Vec3Array x1, v1;
+                        expect_same_bits(method, pair, general, x, v, overflow ? 1 : 200, 0.01, x1, v1);
+                        if (method == rk4) {  // (velocity Verlet's one step, on the forces at the start, stays finite)
+                            EXPECT_EQ(x1.get(anchor).allFinite(), !overflow) << "NaN on both paths, or finite";
+                        }
+                        EXPECT_NE(x1.get(bead), Vec3(1.0, 0.2, 0.0)) << "it moved";
+                    }
                 }
             }
         }
+    }
+}
+
+// A bead on a stiff spring of rest length 0 (linear: no amplitude where it
+// would stop growing) to its anchor (ω = 100 rad/s), a micrometre from
+// rest, and `extra` free particles at rest beside it that no force moves.
+ParticleModel stiff_bead(std::size_t extra) {
+    ParticleModel model;
+    model.particles = {{Vec3(0.0, 0.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.0, true},
+                       {Vec3(1e-6, 0.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.0, false}};
+    for (std::size_t i = 0; i < extra; ++i) {
+        model.particles.push_back({Vec3(2.0 + static_cast<double>(i), 0.0, 0.0), Vec3(0.0, 0.0, 0.0), 1.0, false});
+    }
+    Springs springs;
+    springs.list = {{0, 1, 0.0, 1e4, 0.0}};
+    model.forces = {springs};
+    return model;
+}
+
+// Past its stability limit (ω h = 3) every explicit method blows the stiff
+// bead up, over frames (RK4's amplitude grows 1.5 times a step, symplectic
+// Euler's 6.9 times), and the watchdog, whose rules the pair paths
+// (RK4's, velocity Verlet's) apply themselves, stops it at the frame and for
+// the reason it does when the bead is stepped among 20 more particles (the
+// array path). Not on the first frame: the World times it, and a timed frame
+// takes the general path.
+TEST(FewParticles, TheWatchdogStopsAPairAsItStopsTheArrays) {
+    for (const IntegratorInfo& info : kIntegrators) {
+        if (info.needs_jacobians) continue;
+        SCOPED_TRACE(info.name);
+        World pair(stiff_bead(0)), many(stiff_bead(20));
+        ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
+        for (int i = 0; i < 400; ++i) {
+            pair.step({info.id, 0.03, 1});
+            many.step({info.id, 0.03, 1});
+        }
+        ASSERT_TRUE(many.verdict().exploded()) << "the array path's verdict, the prediction";
+        ASSERT_GT(many.verdict().frame, 2u);
+        ASSERT_TRUE(pair.verdict().exploded()) << "stopped within 400 frames, as the array path was";
+        EXPECT_EQ(pair.verdict().frame, many.verdict().frame);
+        EXPECT_EQ(pair.verdict().quantity, many.verdict().quantity);
     }
 }
 
@@ -484,8 +550,9 @@ TEST(FewParticles, TheLastBlocksParticleGivesItsBitsAlone) {
     }
 }
 
-// RK4 on Newton's gravity between two particles (a planet around its sun)
-// evaluates it inline (Dynamics::pair_path's gravity); a Dynamics that only
+// RK4 and velocity Verlet on Newton's gravity between two particles (a
+// planet around its sun) evaluate it inline (Dynamics::pair_path's
+// gravity); a Dynamics that only
 // forwards acceleration() takes the general few-particle path instead: the
 // same bits, with the sun pinned (first or second) or free, softened or not,
 // in a field or not.
@@ -506,10 +573,13 @@ TEST(FewParticles, TheGravityPairGivesTheGeneralPathsBits) {
                 PredictingForces general(forwarded);
                 ASSERT_NE(pair.pair_path(2).gravity, nullptr);
                 ASSERT_EQ(general.pair_path(2).gravity, nullptr);
-                Vec3Array x1, v1;
-                expect_same_rk4_bits(pair, general, x, v, 200, 0.005, x1, v1);
-                EXPECT_TRUE(x1.get(1).allFinite());
-                EXPECT_NE(x1.get(1), Vec3(0.5, 0.1, 0.0)) << "it moved";
+                for (const auto& [name, method] : kPairMethods) {
+                    SCOPED_TRACE(name);
+                    Vec3Array x1, v1;
+                    expect_same_bits(method, pair, general, x, v, 200, 0.005, x1, v1);
+                    EXPECT_TRUE(x1.get(1).allFinite());
+                    EXPECT_NE(x1.get(1), Vec3(0.5, 0.1, 0.0)) << "it moved";
+                }
             }
         }
     }
