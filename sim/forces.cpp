@@ -136,10 +136,10 @@ void ParticleForces::field_pass(const ForceInput& in, const Vec3Span& out, bool 
 
 namespace {
 
-// f = 0, one component at a time. A few particles are
-// stored one value at a time: memset's wide (or string) stores cannot be
-// forwarded to the scalar loads of the spring pass that follows, which then
-// waits for them to retire (a third of a one-spring evaluation, measured).
+// f = 0, one component at a time. A few particles are stored one value at a
+// time: memset's wide (or string) stores cannot be forwarded to the scalar
+// loads of the spring pass that follows, which then waits for them to
+// retire (a third of a one-spring evaluation, measured).
 inline void zero(const Vec3Span& f) {
     if (f.n <= kFew) {
 #pragma GCC unroll 4

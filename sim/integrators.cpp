@@ -298,13 +298,8 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
     if (s.x.n == 2) {
-        if (const PairPath path = dynamics.pair_path(2); path.spring != nullptr) {
-            pair_velocity_verlet(dynamics, s, *path.spring, path, h);
-            return;
-        } else if (path.gravity != nullptr) {
-            pair_velocity_verlet(dynamics, s, *path.gravity, path, h);
-            return;
-        }
+        const PairPath path = dynamics.pair_path(2);
+        if (pair::visit(path, [&](const auto& p) { pair_velocity_verlet(dynamics, s, p, path, h); })) return;
     }
     ensure_acceleration(dynamics, s, t);
     // A force that reads no velocity is given v as it is (kicked or not):

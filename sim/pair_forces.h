@@ -117,5 +117,20 @@ template <int kStill, class In, class Out>
     gravity_acceleration<kStill>(pair, x, v, mass, inv_mass, a);
 }
 
+// Calls f with the pair `path` holds (its SpringPair or its PairGravity);
+// false, f not called, where it holds none.
+template <class F>
+[[gnu::always_inline]] inline bool visit(const PairPath& path, F&& f) {
+    if (path.spring != nullptr) {
+        f(*path.spring);
+        return true;
+    }
+    if (path.gravity != nullptr) {
+        f(*path.gravity);
+        return true;
+    }
+    return false;
+}
+
 }  // namespace pair
 }  // namespace sim

@@ -330,12 +330,8 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
     if constexpr (kN == 2) {
         // A pair (a bead on its spring, a planet around its sun): evaluated inline.
         const PairPath path = dynamics.pair_path(2);
-        if (path.spring != nullptr || path.gravity != nullptr) {
-            if (path.spring != nullptr) {
-                pair_runge_kutta<kTableau>(s, *path.spring, path, h, std::index_sequence<I...>{});
-            } else {
-                pair_runge_kutta<kTableau>(s, *path.gravity, path, h, std::index_sequence<I...>{});
-            }
+        if (pair::visit(
+                path, [&](const auto& p) { pair_runge_kutta<kTableau>(s, p, path, h, std::index_sequence<I...>{}); })) {
             dynamics.count_evaluations(S * n);
             return;
         }

@@ -508,24 +508,32 @@ ParticleModel orbiters(std::size_t n, std::size_t first = 0) {
     return model;
 }
 
-// One particle alone (RK4's stack path) and inside 20 more: the same bits.
-TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
+// Every explicit method, `frames` frames: orbiter `in_many` of `many` gets
+// the bits the one orbiter of `alone` gets.
+void expect_alone_bits(const ParticleModel& alone_model, const ParticleModel& many_model, std::size_t in_many,
+                       int frames) {
     for (const IntegratorInfo& info : kIntegrators) {
         if (info.needs_jacobians) continue;
         SCOPED_TRACE(info.name);
-        World one(orbiters(1)), many(orbiters(21));
-        ASSERT_GT(many.state().size(), StepArrays::kFewParticles);
-        for (int i = 0; i < 120; ++i) {
-            one.step({info.id, 1.0 / 60.0, 2});
+        World alone(alone_model), many(many_model);
+        for (int i = 0; i < frames; ++i) {
+            alone.step({info.id, 1.0 / 60.0, 2});
             many.step({info.id, 1.0 / 60.0, 2});
         }
-        ASSERT_FALSE(one.verdict().exploded()) << one.verdict().message("one");
+        ASSERT_FALSE(many.verdict().exploded()) << many.verdict().message("many");
+        ASSERT_FALSE(alone.verdict().exploded()) << alone.verdict().message("alone");
         for (int k = 0; k < 3; ++k) {
-            EXPECT_EQ(bits(one.state().x.get(0)[k]), bits(many.state().x.get(0)[k])) << "axis " << k;
-            EXPECT_EQ(bits(one.state().v.get(0)[k]), bits(many.state().v.get(0)[k])) << "axis " << k;
+            EXPECT_EQ(bits(alone.state().x.get(0)[k]), bits(many.state().x.get(in_many)[k])) << "axis " << k;
+            EXPECT_EQ(bits(alone.state().v.get(0)[k]), bits(many.state().v.get(in_many)[k])) << "axis " << k;
         }
-        EXPECT_NE(one.state().x.get(0), one.model().particles[0].position) << "it moved";
+        EXPECT_NE(alone.state().x.get(0), alone.model().particles[0].position) << "it moved";
     }
+}
+
+// One particle alone (RK4's stack path) and inside 20 more: the same bits.
+TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
+    ASSERT_GT(orbiters(21).particles.size(), StepArrays::kFewParticles);
+    expect_alone_bits(orbiters(1), orbiters(21), 0, 120);
 }
 
 // A system of local forces larger than a block is stepped block by block,
@@ -533,29 +541,14 @@ TEST(FewParticles, OneParticleGivesTheArrayPathsBits) {
 // acceleration arrays trading places after every step): the last orbiter
 // of 1100 (in the second block) gets the bits it gets alone.
 TEST(FewParticles, TheLastBlocksParticleGivesItsBitsAlone) {
-    for (const IntegratorInfo& info : kIntegrators) {
-        if (info.needs_jacobians) continue;
-        SCOPED_TRACE(info.name);
-        World alone(orbiters(1, 1099)), many(orbiters(1100));
-        for (int i = 0; i < 60; ++i) {
-            alone.step({info.id, 1.0 / 60.0, 2});
-            many.step({info.id, 1.0 / 60.0, 2});
-        }
-        ASSERT_FALSE(many.verdict().exploded()) << many.verdict().message("many");
-        for (int k = 0; k < 3; ++k) {
-            EXPECT_EQ(bits(alone.state().x.get(0)[k]), bits(many.state().x.get(1099)[k])) << "axis " << k;
-            EXPECT_EQ(bits(alone.state().v.get(0)[k]), bits(many.state().v.get(1099)[k])) << "axis " << k;
-        }
-        EXPECT_NE(alone.state().x.get(0), alone.model().particles[0].position) << "it moved";
-    }
+    expect_alone_bits(orbiters(1, 1099), orbiters(1100), 1099, 60);
 }
 
 // RK4 and velocity Verlet on Newton's gravity between two particles (a
 // planet around its sun) evaluate it inline (Dynamics::pair_path's
-// gravity); a Dynamics that only
-// forwards acceleration() takes the general few-particle path instead: the
-// same bits, with the sun pinned (first or second) or free, softened or not,
-// in a field or not.
+// gravity); a Dynamics that only forwards acceleration() takes the general
+// few-particle path instead: the same bits, with the sun pinned (first or
+// second) or free, softened or not, in a field or not.
 TEST(FewParticles, TheGravityPairGivesTheGeneralPathsBits) {
     for (const bool field : {false, true}) {
         for (const double softening : {0.0, 0.05}) {
