@@ -234,10 +234,14 @@ namespace {
 // step has it, the step in registers: on each of the two particles the
 // operations of the loops above in their order (the drift and the
 // prediction, then v' = (v + (h/2) a) + (h/2) a', the two kicks'), so the
-// same bits; a' kept where the general path keeps it (a_next where the
-// World gives a second array), the watchdog's rules counted alike. The
-// force always sees the predicted velocity: one that reads none gives the
-// same bits either way.
+// same bits; a' written over a (the general path leaves it in a_next where
+// the World gives one, and the arrays trade places: the same values, kept
+// here without the trade), the watchdog's rules counted alike. The force
+// always sees the predicted velocity: one that reads none gives the same
+// bits either way. (Leaving a pinned anchor at rest out, as RK4 does, saved
+// nothing here: the two particles' arithmetic shares vector registers, and
+// the tests cost more than the anchor's lanes; tried 2026-12-05, 447 -> 497
+// instructions a step.)
 template <class Pair>
 void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
     const double* mass = path.mass + s.first;
@@ -258,15 +262,12 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
     }
     pair::acceleration<-1>(pair, x, w, mass, inv_mass, b);
     dynamics.count_evaluations(2);
-    const bool two = s.a_next.n == 2 && s.a_next_taken != nullptr;
-    const Vec3Span& kept = two ? s.a_next : s.a;
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] = (v[k][p] + (0.5 * h) * a[k][p]) + (0.5 * h) * b[k][p];
     }
     for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p], s.v.c[k][p] = v[k][p], kept.c[k][p] = b[k][p];
+        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p], s.v.c[k][p] = v[k][p], s.a.c[k][p] = b[k][p];
     }
-    if (two) *s.a_next_taken = true;
     if (s.watch != nullptr) {
         std::size_t passed = 0;
         for (int p = 0; p < 2; ++p) {
@@ -286,7 +287,12 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
 // Same positions as leapfrog; velocity-dependent forces see a full Euler
 // prediction of v', which keeps them second order too. One force evaluation
 // per step (a' is the next step's a). Exact for a constant force.
-void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+namespace {
+
+// Every system but a pair: the fused pass of a uniform field, or the loops.
+// Out of line, so that a pair's step (velocity_verlet) saves and restores
+// only the registers it uses.
+[[gnu::noinline]] void velocity_verlet_arrays(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     const bool fresh = !s.memory_valid;
     auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
         if (rebuild) a = accel(v);
@@ -297,10 +303,6 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
         v = v + (0.5 * h) * a;
     };
     if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
-    if (s.x.n == 2) {
-        const PairPath path = dynamics.pair_path(2);
-        if (pair::visit(path, [&](const auto& p) { pair_velocity_verlet(dynamics, s, p, path, h); })) return;
-    }
     ensure_acceleration(dynamics, s, t);
     // A force that reads no velocity is given v as it is (kicked or not):
     // no prediction to store.
@@ -342,6 +344,16 @@ void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h
     };
     s.watch != nullptr ? kicks(std::true_type{}) : kicks(std::false_type{});
     *s.a_next_taken = true;
+}
+
+}  // namespace
+
+void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    if (s.x.n == 2) {
+        const PairPath path = dynamics.pair_path(2);
+        if (pair::visit(path, [&](const auto& p) { pair_velocity_verlet(dynamics, s, p, path, h); })) return;
+    }
+    velocity_verlet_arrays(dynamics, s, t, h);
 }
 
 // Position (Störmer) Verlet, order 2:

@@ -360,10 +360,12 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     const double h = settings.substeps == 1 ? settings.dt : settings.dt / settings.substeps;
     const bool constrained = systems_.constraints, colliding = systems_.collisions, plastic = systems_.plasticity;
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
-        for (const Emitter& emitter : model_.emitters) {
-            if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
+        if (systems_.emitters) {
+            for (const Emitter& emitter : model_.emitters) {
+                if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
+            }
+            laps.lap(times_.emitters);
         }
-        if (systems_.emitters) laps.lap(times_.emitters);
         // Continuous collision detection sweeps from here; a contained explosion freezes here.
         if (colliding || !watchdog_.contain.empty()) x_start_ = state_.x;
         if (drag_ && drag_->kind == Drag::Kind::particle) apply_drag(h);
