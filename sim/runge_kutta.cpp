@@ -327,15 +327,6 @@ template <const auto& kTableau, std::size_t kN, std::size_t... I>
 void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h, std::index_sequence<I...>) {
     constexpr std::size_t S = sizeof...(I);
     const std::size_t n = kN > 0 ? kN : s.x.n;
-    if constexpr (kN == 2) {
-        // A pair (a bead on its spring, a planet around its sun): evaluated inline.
-        const PairPath path = dynamics.pair_path(2);
-        if (pair::visit(
-                path, [&](const auto& p) { pair_runge_kutta<kTableau>(s, p, path, h, std::index_sequence<I...>{}); })) {
-            dynamics.count_evaluations(S * n);
-            return;
-        }
-    }
     FewArray<kN> X, V[S], A[S];  // stage positions, velocities (V[i] unused where stage i is the state), accelerations
     auto span = [&](FewArray<kN>& c) { return Vec3Span(c[0], c[1], c[2], n); };
     auto read = [&](const FewArray<kN>& c) { return ConstVec3Span(c[0], c[1], c[2], n); };
@@ -358,7 +349,7 @@ void few_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h
 // (and i) order, skipping zero coefficients, on both paths.
 // Scratch: X (1 array), V_i (S arrays), A_i (S arrays).
 template <const auto& kTableau>
-void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+[[gnu::noinline]] void arrays_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     constexpr std::size_t S = std::size(kTableau.b);
     static_assert(2 * S + 1 <= kMaxScratch);
     auto rule = [h](P3& x, P3& v, P3&, const auto& accel, auto) {
@@ -366,8 +357,9 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     };
     if (fused_field_pass(dynamics, s, {}, static_cast<int>(S), rule)) return;
     if (s.x.n <= StepArrays::kFewParticles) {
-        // Two particles (a bead on its anchor) get their own build: the
-        // loops unrolled, and a spring between them evaluated inline.
+        // Two particles that are not a pair (explicit_runge_kutta), or a
+        // pair on a frame whose spring pass is timed, get their own build:
+        // the loops unrolled.
         if (s.x.n == 2) {
             few_runge_kutta<kTableau, 2>(dynamics, s, t, h, std::make_index_sequence<S>{});
         } else {
@@ -395,6 +387,26 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
     }
     (std::make_index_sequence<S>{});
     run_step_pass<kTableau>(s, stage_v, stage_a, h);
+}
+
+// A pair (a bead on its spring, a planet around its sun) is looked for
+// first and stepped with its force inline (pair_runge_kutta); every other
+// system goes out of line (arrays_runge_kutta: the fused pass of a uniform
+// field, which is never a pair, the few-particle build, the passes), so
+// that a pair's step saves only the registers it uses.
+template <const auto& kTableau>
+void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    constexpr std::size_t S = std::size(kTableau.b);
+    if (s.x.n == 2) {
+        const PairPath path = dynamics.pair_path(2);
+        if (pair::visit(path, [&](const auto& p) {
+                pair_runge_kutta<kTableau>(s, p, path, h, std::make_index_sequence<S>{});
+            })) {
+            dynamics.count_evaluations(S * 2);
+            return;
+        }
+    }
+    arrays_runge_kutta<kTableau>(dynamics, s, t, h);
 }
 
 }  // namespace
