@@ -112,6 +112,47 @@ Hit cast_box(const BoxCollider& box, double r, const Vec3& p0, const Vec3& p1) {
     return {t_enter, box.rotation * n_local};
 }
 
+// A static collider's ColliderBounds.
+ColliderBounds collider_bounds(const Collider& collider) {
+    const auto widened = [](const Vec3& lo, const Vec3& hi, const Vec3& grow) {
+        const double margin = 1e-9 * (1.0 + std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()));  // m
+        return ColliderBounds{lo.array() - margin, hi.array() + margin, grow};
+    };
+    return std::visit(Overloaded{
+                          [&](const PlaneCollider&) {
+                              const double inf = std::numeric_limits<double>::infinity();
+                              return ColliderBounds{Vec3::Constant(-inf), Vec3::Constant(inf)};
+                          },
+                          [&](const SphereCollider& b) {
+                              return widened(b.center.array() - b.radius, b.center.array() + b.radius, Vec3::Ones());
+                          },
+                          [&](const BoxCollider& b) {
+                              // The box grown by r is grown by r along each of its own axes: in
+                              // world axes by r times each row's sum of |rotation| (1 to √3).
+                              const Eigen::Matrix3d turn = b.rotation.cwiseAbs();
+                              const Vec3 extent = turn * b.half_extents;  // the rotated box's half size
+                              return widened(b.center - extent, b.center + extent, turn * Vec3::Ones());
+                          },
+                          [&](const CapsuleCollider& b) {
+                              return widened(b.a.cwiseMin(b.b).array() - b.radius, b.a.cwiseMax(b.b).array() + b.radius,
+                                             Vec3::Ones());
+                          },
+                      },
+                      collider);
+}
+
+// Whether the substep from x0 to x of a particle of radius r stays outside
+// the bounds on some axis, by more than the rounding of positions that
+// large. NaN never does: it goes to the exact test.
+inline bool outside_bounds(const ColliderBounds& bounds, const Vec3& x0, const Vec3& x, double r) {
+    const double slack = 1e-9 * (1.0 + std::max(x0.cwiseAbs().maxCoeff(), x.cwiseAbs().maxCoeff()));  // m
+    for (int k = 0; k < 3; ++k) {
+        const double reach = r * bounds.grow[k] + slack;
+        if (std::min(x0[k], x[k]) - reach > bounds.hi[k] || std::max(x0[k], x[k]) + reach < bounds.lo[k]) return true;
+    }
+    return false;
+}
+
 // One particle against a plane: collide_static's plane case written out, so
 // that the common ground plane costs a dot product per particle and not two
 // dispatches on the collider's type.
@@ -559,14 +600,22 @@ std::size_t collide(const Collisions& c, ConstVec3Span x0, Vec3Span x, Vec3Span 
     std::size_t contacts = 0;
     if (c.particle_particle) contacts += collide_pairs(c, x, v, radius, inv_mass, scratch);
     if (!c.colliders.empty() || !moving.empty()) {
+        scratch.collider_bounds.resize(c.colliders.size());
+        for (std::size_t k = 0; k < c.colliders.size(); ++k)
+            scratch.collider_bounds[k] = collider_bounds(c.colliders[k]);
         for (std::size_t i = 0; i < x.n; ++i) {
             if (inv_mass[i] == 0.0) continue;
             Vec3 p = x.get(i), vel = v.get(i);
+            const Vec3 start = x0.get(i);
             bool touched = false;
-            for (const Collider& collider : c.colliders) {
+            for (std::size_t k = 0; k < c.colliders.size(); ++k) {
+                const Collider& collider = c.colliders[k];
                 const auto* plane = std::get_if<PlaneCollider>(&collider);
-                touched |= plane ? collide_plane(*plane, c, p, vel, radius[i])
-                                 : collide_static(collider, c, x0.get(i), p, vel, radius[i]);
+                if (plane) {
+                    touched |= collide_plane(*plane, c, p, vel, radius[i]);
+                } else if (!outside_bounds(scratch.collider_bounds[k], start, p, radius[i])) {
+                    touched |= collide_static(collider, c, start, p, vel, radius[i]);
+                }
             }
             for (const MovingCollider& m : moving) {
                 const double reach = m.reach + radius[i];

@@ -93,6 +93,15 @@ struct GridCell {
 
 // Scratch and counters of the collision pass (state that changes every step;
 // not part of a scene's description).
+// A box in world axes around a static collider, m (a plane's is all space),
+// widened by far more than the rounding of the exact tests: a particle of
+// radius r whose substep stays outside it, the box grown by r times `grow`
+// on each axis (what the collider grown by r adds there), cannot touch it.
+struct ColliderBounds {
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // m
+    Vec3 grow = Vec3::Ones();                   // (m/m) the growth on each axis per metre of radius
+};
+
 struct CollisionScratch {
     std::vector<std::uint32_t> cell_start;            // (cells + 2) counting-sort offsets, cell k's first entry at [k]
     std::vector<std::uint32_t> cell_entries;          // particle indices sorted by cell
@@ -102,6 +111,7 @@ struct CollisionScratch {
     std::vector<std::array<std::uint32_t, 2>> pairs;  // overlapping pairs found, as entry indices
     std::vector<std::array<double, 3>> sparse_cells;  // a crowded grid's fallback: cell (x, y, z) of each entry
     std::size_t contacts = 0;                         // contacts resolved in the last pass
+    std::vector<ColliderBounds> collider_bounds;      // one per static collider (a quick reject)
 };
 
 // A collider that moves rigidly (a rigid body's part), for one-way coupling:

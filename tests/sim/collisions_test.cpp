@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -90,6 +91,85 @@ TEST(Collisions, AFastParticleStopsAtAThinWallInsteadOfPassingThrough) {
         world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
         ASSERT_LE(world.state().x.get(0).x(), 4.995 + 1e-12) << "m: behind the wall at frame " << i + 1;
     }
+}
+
+// collide() passes over a static collider whose bounds a particle's substep
+// stays clear of (ColliderBounds): it must never pass over a contact. Still
+// particles (the substep a point) near the surface of turned boxes, spheres
+// and capsules grown by the particle's radius: each touches exactly when it
+// is inside the grown shape, computed here in the shape's own frame. A box
+// grown by r reaches r √3 past its world bounds at a corner when turned
+// about a skew axis; the first case sits there, 0.3 r past bounds grown by
+// r alone (a reject that forgot the turn would miss it).
+TEST(Collisions, TheQuickRejectNeverMissesAContact) {
+    const Eigen::Matrix3d skew = Eigen::AngleAxisd(0.9, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+    Collisions c;
+    c.restitution = 0.0;
+    auto touches = [&](const Collider& collider, const Vec3& p, double r) {
+        c.colliders = {collider};
+        Vec3Array x0(1), x(1), v(1);
+        x0.set(0, p), x.set(0, p);
+        const double radius[1] = {r}, inv_mass[1] = {1.0};
+        CollisionScratch scratch;
+        return collide(c, x0.span(), x.span(), v.span(), radius, inv_mass, 1.0 / 60.0, scratch) == 1;
+    };
+    BoxCollider box;
+    box.center = Vec3(0.3, -0.2, 0.1);
+    box.half_extents = Vec3(0.5, 0.2, 0.1);
+    box.rotation = skew;
+    const double r = 0.05;  // m
+    {
+        // The grown box's corner furthest along world x.
+        const Vec3 sign = skew.row(0).transpose().array().sign();
+        const Vec3 corner = box.center + skew * ((box.half_extents.array() + r) * sign.array() * (1.0 - 1e-6)).matrix();
+        const Vec3 extent = skew.cwiseAbs() * box.half_extents;
+        ASSERT_GT(corner.x() - box.center.x(), extent.x() + 1.3 * r) << "m: the corner past bounds grown by r";
+        EXPECT_TRUE(touches(box, corner, r)) << "a particle just inside a turned box's grown corner";
+    }
+    Random random(11);
+    auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * random.uniform(); };
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const double radius = uniform(0.0, 0.2);  // m
+        // A point in a box around the shape a little larger than its grown size.
+        const Vec3 q(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        Collider shape;
+        bool in = false;
+        double clearance = 0.0;  // m, how far inside (> 0) or outside the grown shape
+        Vec3 p;
+        switch (i % 3) {
+            case 0: {  // the box, q scaled to 1.2 times its grown half size, in its frame
+                const Vec3 local = 1.2 * (q.array() * (box.half_extents.array() + radius)).matrix();
+                p = box.center + box.rotation * local;
+                clearance = ((box.half_extents.array() + radius) - local.cwiseAbs().array()).minCoeff();
+                shape = box;
+                break;
+            }
+            case 1: {
+                const SphereCollider sphere{Vec3(-0.4, 0.5, 0.2), 0.3};
+                p = sphere.center + 1.2 * (sphere.radius + radius) * q;
+                clearance = sphere.radius + radius - (p - sphere.center).norm();
+                shape = sphere;
+                break;
+            }
+            default: {
+                const CapsuleCollider capsule{Vec3(-0.3, 0.1, 0.0), Vec3(0.4, 0.6, -0.2), 0.15};
+                const Vec3 mid = 0.5 * (capsule.a + capsule.b);
+                p = mid + skew * Vec3(q.x() * 0.9, q.y() * 0.5, q.z() * 0.5);
+                const Vec3 ab = capsule.b - capsule.a;
+                const double t = std::clamp((p - capsule.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+                clearance = capsule.radius + radius - (p - (capsule.a + t * ab)).norm();
+                shape = capsule;
+                break;
+            }
+        }
+        if (std::abs(clearance) < 1e-9) continue;  // on the surface, to rounding: either answer
+        in = clearance > 0.0;
+        (in ? inside : outside) += 1;
+        EXPECT_EQ(touches(shape, p, radius), in) << "case " << i << ", " << clearance << " m inside the grown shape";
+    }
+    EXPECT_GT(inside, 300);
+    EXPECT_GT(outside, 300);
 }
 
 TEST(Collisions, ParticlePairsExchangeVelocitiesAndConserveMomentum) {
