@@ -141,16 +141,40 @@ ColliderBounds collider_bounds(const Collider& collider) {
                       collider);
 }
 
-// Whether the substep from x0 to x of a particle of radius r stays outside
-// the bounds on some axis, by more than the rounding of positions that
-// large. NaN never does: it goes to the exact test.
-inline bool outside_bounds(const ColliderBounds& bounds, const Vec3& x0, const Vec3& x, double r) {
-    const double slack = 1e-9 * (1.0 + std::max(x0.cwiseAbs().maxCoeff(), x.cwiseAbs().maxCoeff()));  // m
+// A particle's substep from x0 to x as the quick rejects see it: the box in
+// world axes around the two, and a slack above the rounding of positions
+// that large, m.
+struct Sweep {
+    Vec3 lo, hi;  // m
+    double slack;
+};
+inline Sweep sweep(const Vec3& x0, const Vec3& x) {
+    return {x0.cwiseMin(x), x0.cwiseMax(x), 1e-9 * (1.0 + std::max(x0.cwiseAbs().maxCoeff(), x.cwiseAbs().maxCoeff()))};
+}
+
+// Whether a particle of radius r on `sweep` stays outside the bounds on some
+// axis. NaN never does: it goes to the exact test.
+inline bool outside_bounds(const ColliderBounds& bounds, const Sweep& sweep, double r) {
     for (int k = 0; k < 3; ++k) {
-        const double reach = r * bounds.grow[k] + slack;
-        if (std::min(x0[k], x[k]) - reach > bounds.hi[k] || std::max(x0[k], x[k]) + reach < bounds.lo[k]) return true;
+        const double reach = r * bounds.grow[k] + sweep.slack;
+        if (sweep.lo[k] - reach > bounds.hi[k] || sweep.hi[k] + reach < bounds.lo[k]) return true;
     }
     return false;
+}
+
+// The box in world axes around every moving collider's reach (its quick
+// reject's sphere), widened as collider_bounds widens: a particle outside
+// it, grown by its radius, is outside every one of those spheres. Empty
+// (lo > hi) without moving colliders.
+ColliderBounds moving_bounds(const std::vector<MovingCollider>& moving) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const MovingCollider& m : moving) {
+        lo = lo.cwiseMin(m.pivot - Vec3::Constant(m.reach));
+        hi = hi.cwiseMax(m.pivot + Vec3::Constant(m.reach));
+    }
+    if (moving.empty() || !lo.allFinite() || !hi.allFinite()) return {lo, hi};  // (a NaN pivot: never outside)
+    const double margin = 1e-9 * (1.0 + std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()));  // m
+    return {lo.array() - margin, hi.array() + margin};
 }
 
 // One particle against a plane: collide_static's plane case written out, so
@@ -603,21 +627,29 @@ std::size_t collide(const Collisions& c, ConstVec3Span x0, Vec3Span x, Vec3Span 
         scratch.collider_bounds.resize(c.colliders.size());
         for (std::size_t k = 0; k < c.colliders.size(); ++k)
             scratch.collider_bounds[k] = collider_bounds(c.colliders[k]);
+        const ColliderBounds all_moving = moving_bounds(moving);
+        const bool moving_bounded = all_moving.lo.allFinite() && all_moving.hi.allFinite();
         for (std::size_t i = 0; i < x.n; ++i) {
             if (inv_mass[i] == 0.0) continue;
             Vec3 p = x.get(i), vel = v.get(i);
             const Vec3 start = x0.get(i);
+            Sweep swept = sweep(start, p);  // again wherever a contact moves p
             bool touched = false;
             for (std::size_t k = 0; k < c.colliders.size(); ++k) {
                 const Collider& collider = c.colliders[k];
                 const auto* plane = std::get_if<PlaneCollider>(&collider);
+                bool touch = false;
                 if (plane) {
-                    touched |= collide_plane(*plane, c, p, vel, radius[i]);
-                } else if (!outside_bounds(scratch.collider_bounds[k], start, p, radius[i])) {
-                    touched |= collide_static(collider, c, start, p, vel, radius[i]);
+                    touch = collide_plane(*plane, c, p, vel, radius[i]);
+                } else if (!outside_bounds(scratch.collider_bounds[k], swept, radius[i])) {
+                    touch = collide_static(collider, c, start, p, vel, radius[i]);
                 }
+                if (touch) swept = sweep(start, p), touched = true;
             }
-            for (const MovingCollider& m : moving) {
+            // Outside the box around every moving collider's reach, p is outside each one's.
+            const bool near_moving = !moving_bounded || !outside_bounds(all_moving, sweep(p, p), radius[i]);
+            for (std::size_t k = 0; near_moving && k < moving.size(); ++k) {
+                const MovingCollider& m = moving[k];
                 const double reach = m.reach + radius[i];
                 if ((p - m.pivot).squaredNorm() >= reach * reach) continue;
                 // In the collider's frame the surface is still: respond to the relative velocity.

@@ -94,7 +94,9 @@ TEST(Collisions, AFastParticleStopsAtAThinWallInsteadOfPassingThrough) {
 }
 
 // collide() passes over a static collider whose bounds a particle's substep
-// stays clear of (ColliderBounds): it must never pass over a contact. Still
+// stays clear of (ColliderBounds), and over the moving colliders where the
+// particle is outside the box around all their reaches: it must never pass
+// over a contact. Still
 // particles (the substep a point) near the surface of turned boxes, spheres
 // and capsules grown by the particle's radius: each touches exactly when it
 // is inside the grown shape, computed here in the shape's own frame. A box
@@ -105,13 +107,23 @@ TEST(Collisions, TheQuickRejectNeverMissesAContact) {
     const Eigen::Matrix3d skew = Eigen::AngleAxisd(0.9, Vec3(1, 2, 3).normalized()).toRotationMatrix();
     Collisions c;
     c.restitution = 0.0;
-    auto touches = [&](const Collider& collider, const Vec3& p, double r) {
-        c.colliders = {collider};
+    // Static, or (moving) a still moving collider held within `reach` of `pivot`
+    // beside a second one far off (the box around both reaches is larger).
+    auto touches = [&](const Collider& collider, const Vec3& p, double r, bool moving = false,
+                       const Vec3& pivot = Vec3::Zero(), double reach = 0.0) {
+        c.colliders.clear();
+        std::vector<MovingCollider> movers;
+        if (moving) {
+            movers.push_back({collider, Vec3::Zero(), Vec3::Zero(), pivot, reach});
+            movers.push_back({SphereCollider{Vec3(5, 5, 5), 0.1}, Vec3::Zero(), Vec3::Zero(), Vec3(5, 5, 5), 0.1});
+        } else {
+            c.colliders = {collider};
+        }
         Vec3Array x0(1), x(1), v(1);
         x0.set(0, p), x.set(0, p);
         const double radius[1] = {r}, inv_mass[1] = {1.0};
         CollisionScratch scratch;
-        return collide(c, x0.span(), x.span(), v.span(), radius, inv_mass, 1.0 / 60.0, scratch) == 1;
+        return collide(c, x0.span(), x.span(), v.span(), radius, inv_mass, 1.0 / 60.0, scratch, movers) == 1;
     };
     BoxCollider box;
     box.center = Vec3(0.3, -0.2, 0.1);
@@ -129,8 +141,10 @@ TEST(Collisions, TheQuickRejectNeverMissesAContact) {
     Random random(11);
     auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * random.uniform(); };
     int inside = 0, outside = 0;
-    for (int i = 0; i < 3000; ++i) {
+    for (int i = 0; i < 6000; ++i) {
         const double radius = uniform(0.0, 0.2);  // m
+        Vec3 pivot = Vec3::Zero();
+        double reach = 0.0;  // m, a sphere about pivot that holds the shape
         // A point in a box around the shape a little larger than its grown size.
         const Vec3 q(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
         Collider shape;
@@ -143,6 +157,7 @@ TEST(Collisions, TheQuickRejectNeverMissesAContact) {
                 p = box.center + box.rotation * local;
                 clearance = ((box.half_extents.array() + radius) - local.cwiseAbs().array()).minCoeff();
                 shape = box;
+                pivot = box.center, reach = box.half_extents.norm();
                 break;
             }
             case 1: {
@@ -150,6 +165,7 @@ TEST(Collisions, TheQuickRejectNeverMissesAContact) {
                 p = sphere.center + 1.2 * (sphere.radius + radius) * q;
                 clearance = sphere.radius + radius - (p - sphere.center).norm();
                 shape = sphere;
+                pivot = sphere.center, reach = sphere.radius;
                 break;
             }
             default: {
@@ -160,16 +176,23 @@ TEST(Collisions, TheQuickRejectNeverMissesAContact) {
                 const double t = std::clamp((p - capsule.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
                 clearance = capsule.radius + radius - (p - (capsule.a + t * ab)).norm();
                 shape = capsule;
+                pivot = mid, reach = 0.5 * ab.norm() + capsule.radius;
                 break;
             }
         }
-        if (std::abs(clearance) < 1e-9) continue;  // on the surface, to rounding: either answer
-        in = clearance > 0.0;
+        const bool moving = i % 2 == 1;
+        // A moving collider is looked at only within its reach (plus r) of its
+        // pivot: that leaves out the square corners of a grown box beyond it
+        // (a real sphere touches a box's corner within r of it, inside the reach).
+        const double within_reach = moving ? reach + radius - (p - pivot).norm() : 1.0;  // m
+        if (std::abs(clearance) < 1e-9 || std::abs(within_reach) < 1e-9) continue;       // either answer, to rounding
+        in = clearance > 0.0 && within_reach > 0.0;
         (in ? inside : outside) += 1;
-        EXPECT_EQ(touches(shape, p, radius), in) << "case " << i << ", " << clearance << " m inside the grown shape";
+        EXPECT_EQ(touches(shape, p, radius, moving, pivot, reach), in)
+            << "case " << i << (moving ? " (moving), " : ", ") << clearance << " m inside the grown shape";
     }
-    EXPECT_GT(inside, 300);
-    EXPECT_GT(outside, 300);
+    EXPECT_GT(inside, 600);
+    EXPECT_GT(outside, 600);
 }
 
 TEST(Collisions, ParticlePairsExchangeVelocitiesAndConserveMomentum) {
