@@ -91,8 +91,6 @@ struct GridCell {
     std::int32_t x = 0, y = 0, z = 0;
 };
 
-// Scratch and counters of the collision pass (state that changes every step;
-// not part of a scene's description).
 // A box in world axes around a static collider, m (a plane's is all space),
 // widened by far more than the rounding of the exact tests: a particle of
 // radius r whose substep stays outside it, the box grown by r times `grow`
@@ -102,6 +100,8 @@ struct ColliderBounds {
     Vec3 grow = Vec3::Ones();                   // (m/m) the growth on each axis per metre of radius
 };
 
+// Scratch and counters of the collision pass (state that changes every step;
+// not part of a scene's description).
 struct CollisionScratch {
     std::vector<std::uint32_t> cell_start;            // (cells + 2) counting-sort offsets, cell k's first entry at [k]
     std::vector<std::uint32_t> cell_entries;          // particle indices sorted by cell
