@@ -169,7 +169,8 @@ void peer_table(std::ostream& md, const Findings& f) {
     md << "## Peers: boost::odeint\n\n"
        << "odeint's steppers on the same problems and dt sweeps (dashed in the plots). The ratio is our cost at "
           "the same error over theirs (wall time, median over their points; below 1: ours is cheaper), each "
-          "point of ours timed again just before theirs at the same dt, so that both see the same load.\n\n"
+          "point of ours timed again beside theirs at the same dt, run for run (one of ours, one of theirs, "
+          "in turn, each side's median), so that both see the same load.\n\n"
        << "| peer | compared with | problem | fitted order | our cost / theirs, one particle | batch of 1000 | "
           "ns per copy-step, ours / theirs |\n|---|---|---|---|---|---|---|\n";
     for (const PeerRow& r : f.peers) {
@@ -194,8 +195,9 @@ const char* kFixedCost =
     "checks the result), an overhead the same whatever the number of particles; on one particle it is "
     "most of the step, against odeint's one inlined 3-vector, and it is mostly what the one-particle "
     "ratio measures. On a shared machine that ratio moves from run to run by up to 1.6x on the "
-    "oscillators (a process runs our step, some 800 instructions of straight-line code, at one of two "
-    "speeds, odeint's short loop at one; docs/fixed-cost-study.md): read it as a range. The batch "
+    "oscillators (our step is some 430 to 700 instructions of straight-line code, odeint's a short loop, "
+    "and a process can run either at one of two speeds; docs/fixed-cost-study.md): read it as a range. "
+    "The batch "
     "spreads it over 1000 independent copies of each problem (one World of "
     "1000 particles against one odeint state of 6000 doubles; the Kepler copies each fall towards a "
     "fixed attractor, CentralGravity, so that they do not attract each other), so what it shows is the "

@@ -12,6 +12,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <utility>
+#include <vector>
 
 namespace scenes::report {
 namespace {
@@ -57,55 +60,103 @@ void score(const Problem& p, const sim::ParticleModel& model, const sim::World& 
     }
 }
 
-// One method on one problem at one dt, timed as `timing` says.
-Sample measure(const Problem& p, const IntegratorInfo& info, double dt, Timing timing) {
-    int repetitions = timing.repetitions;
-    Sample s{.problem = p.name, .integrator = std::string(info.name), .dt = dt, .steps = std::lround(p.end / dt)};
-    const sim::ParticleModel model = p.model();
-    std::vector<double> times;
-    double total = 0.0;  // s, timed so far
-    for (int r = 0; r < repetitions || (total < timing.min_seconds && r < 10000); ++r) {
-        sim::World world(model);
-        const double e0 = world.energy();
-        Crossings crossings;
-        crossings.previous_x = world.state().x.get(p.particle).x();
-        const auto start = Clock::now();
-        for (long i = 0; i < s.steps && !world.verdict().exploded(); ++i) {
-            world.step({info.id, dt, 1});
-            if (!p.exact) crossings.see(world.state().t, world.state().x.get(p.particle).x());
-        }
-        times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
-        total += times.back();
-        // A run of half a second or more times itself well enough: no repetitions.
-        if (times.back() >= 0.5) repetitions = r + 1;
-        if (r + 1 < repetitions || (total < timing.min_seconds && r + 1 < 10000)) continue;
-        score(p, model, world, e0, crossings, s);
-        if (s.exploded) break;
+// One side's run times, s, and whether it takes another run: until
+// timing.repetitions runs and timing.min_seconds in all (at most 10000
+// runs); a run of half a second or more times itself well enough.
+struct Runs {
+    std::vector<double> times;  // s
+    double total = 0.0;         // s
+    void add(double seconds) { times.push_back(seconds), total += seconds; }
+    bool more(const Timing& timing) const {
+        if (times.empty()) return true;
+        if (times.back() >= 0.5) return false;
+        const auto n = static_cast<int>(times.size());
+        return n < timing.repetitions || (total < timing.min_seconds && n < 10000);
     }
-    s.seconds = median(times) / p.end;
+};
+
+// One timed run of a method of ours on p at dt, its World kept for score().
+struct OurRun {
+    std::unique_ptr<sim::World> world;
+    double e0 = 0.0;  // J, at the start
+    Crossings crossings;
+    double seconds = 0.0;
+};
+OurRun run_ours(const Problem& p, const sim::ParticleModel& model, const IntegratorInfo& info, double dt, long steps) {
+    OurRun run{.world = std::make_unique<sim::World>(model)};
+    sim::World& world = *run.world;
+    run.e0 = world.energy();
+    run.crossings.previous_x = world.state().x.get(p.particle).x();
+    const auto start = Clock::now();
+    for (long i = 0; i < steps && !world.verdict().exploded(); ++i) {
+        world.step({info.id, dt, 1});
+        if (!p.exact) run.crossings.see(world.state().t, world.state().x.get(p.particle).x());
+    }
+    run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return run;
+}
+
+// The sample of a method of ours from its runs' times and its last run.
+Sample our_sample(const Problem& p, const sim::ParticleModel& model, const IntegratorInfo& info, double dt,
+                  const Runs& runs, const OurRun& last) {
+    Sample s{.problem = p.name, .integrator = std::string(info.name), .dt = dt, .steps = std::lround(p.end / dt)};
+    score(p, model, *last.world, last.e0, last.crossings, s);
+    s.seconds = median(runs.times) / p.end;
     return s;
 }
 
-// One of odeint's steppers on one problem at one dt, timed as `timing` says.
-Sample measure_peer(const Problem& p, const PeerInfo& peer, double dt, Timing timing) {
+// The sample of an odeint stepper from its runs' times and its last run.
+Sample peer_sample(const Problem& p, const PeerInfo& peer, double dt, const Runs& runs, const PeerRun& last) {
     Sample s{.problem = p.name, .integrator = peer.name, .dt = dt, .steps = std::lround(p.end / dt)};
+    const double t = static_cast<double>(s.steps) * dt;
+    s.seconds = median(runs.times) / p.end;
+    s.evaluations = peer.evaluations * static_cast<double>(s.steps) / t;
+    s.exploded = !last.x.allFinite();
+    if (!s.exploded) s.error = (last.x - p.exact(t).x).norm();
+    return s;
+}
+
+// One method on one problem at one dt, timed as `timing` says.
+Sample measure(const Problem& p, const IntegratorInfo& info, double dt, Timing timing) {
+    const sim::ParticleModel model = p.model();
+    const long steps = std::lround(p.end / dt);
+    Runs runs;
+    OurRun run;
+    while (runs.more(timing)) {
+        run = run_ours(p, model, info, dt, steps);
+        runs.add(run.seconds);
+    }
+    return our_sample(p, model, info, dt, runs, run);
+}
+
+// The method of ours a peer is compared with and the peer, at one dt, timed
+// in turn, a block of runs of each (a quarter of timing.min_seconds, at
+// least one run), each side's median: what the machine does meanwhile falls
+// on both. (Timed one side after the other, the same build's RK4 read 2.6
+// and 4.4 times odeint's cost on the oscillator in two reports; taken one
+// run each in turn, our short runs started cold after odeint's, 500 steps
+// of velocity Verlet at 41 ns a step against 25 warm.)
+std::pair<Sample, Sample> measure_pair(const Problem& p, const IntegratorInfo& ours, const PeerInfo& peer, double dt,
+                                       Timing timing) {
     const sim::ParticleModel model = p.model();
     const sim::Vec3 x0 = model.particles[p.particle].position, v0 = model.particles[p.particle].velocity;
-    std::vector<double> times;
-    PeerRun run;
-    double total = 0.0;  // s, timed so far
-    for (int r = 0; r < timing.repetitions || (total < timing.min_seconds && r < 10000); ++r) {
-        run = run_peer(peer.name, p.name, x0, v0, dt, s.steps);
-        times.push_back(run.seconds);
-        total += run.seconds;
-        if (run.seconds >= 0.5) break;
+    const long steps = std::lround(p.end / dt);
+    Runs our_runs, their_runs;
+    OurRun our_run;
+    PeerRun their_run;
+    auto block = [&](Runs& runs, auto run_one) {
+        double spent = 0.0;  // s
+        do {
+            const double seconds = run_one();
+            runs.add(seconds);
+            spent += seconds;
+        } while (spent < 0.25 * timing.min_seconds && runs.more(timing));
+    };
+    while (our_runs.more(timing) || their_runs.more(timing)) {
+        block(our_runs, [&] { return (our_run = run_ours(p, model, ours, dt, steps)).seconds; });
+        block(their_runs, [&] { return (their_run = run_peer(peer.name, p.name, x0, v0, dt, steps)).seconds; });
     }
-    const double t = static_cast<double>(s.steps) * dt;
-    s.seconds = median(times) / p.end;
-    s.evaluations = peer.evaluations * static_cast<double>(s.steps) / t;
-    s.exploded = !run.x.allFinite();
-    if (!s.exploded) s.error = (run.x - p.exact(t).x).norm();
-    return s;
+    return {our_sample(p, model, ours, dt, our_runs, our_run), peer_sample(p, peer, dt, their_runs, their_run)};
 }
 
 // The peer's side of a batch of copies, against the method of ours it is compared with.
@@ -143,11 +194,12 @@ std::vector<PeerSweep> measure_peers(const std::vector<Problem>& problems, const
             const sim::IntegratorInfo& ours = sim::integrator_info(sim::integrator_from_name(peer.ours).value());
             double dt = peer.order >= 4 ? p.dt4 : p.dt2;
             for (int k = 0; k < settings.dt_count; ++k, dt /= 2.0) {
-                // Ours again, just before theirs at the same dt: the ratio then
-                // compares timings taken together, not minutes apart (the
-                // sweeps above), which the machine's load moves by a fifth.
-                sweep.ours_samples.push_back(measure(p, ours, dt, settings.timing));
-                sweep.samples.push_back(measure_peer(p, peer, dt, settings.timing));
+                // Ours again, beside theirs at the same dt, run for run: the
+                // ratio then compares timings taken together, not minutes
+                // apart (the sweeps above), which the machine's load moves by a fifth.
+                auto [mine, theirs] = measure_pair(p, ours, peer, dt, settings.timing);
+                sweep.ours_samples.push_back(std::move(mine));
+                sweep.samples.push_back(std::move(theirs));
             }
             if (peer.batch) sweep.batch = measure_peer_batch(p, peer, settings.batch);
             out.push_back(sweep);
