@@ -70,8 +70,8 @@ struct PairGravity {
 // The whole force on a system of two particles when it is one of the pairs
 // above (at most one of spring and gravity is set), with the masses, kg, and
 // inverse masses, 1/kg, of the whole system: what RK4 and velocity Verlet
-// need to evaluate the force inline (sim/pair_forces.h, pair::visit), in one
-// call.
+// need to evaluate the force inline (sim/pair_forces.h, pair::step_pair),
+// in one call.
 struct PairPath {
     const SpringPair* spring = nullptr;
     const PairGravity* gravity = nullptr;

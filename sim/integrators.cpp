@@ -280,18 +280,11 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
 
 }  // namespace
 
-// Velocity Verlet, order 2:
-//   x' = x + h v + (h²/2) a
-//   a' = a(t + h, x', v + h a)
-//   v' = v + (h/2)(a + a')
-// Same positions as leapfrog; velocity-dependent forces see a full Euler
-// prediction of v', which keeps them second order too. One force evaluation
-// per step (a' is the next step's a). Exact for a constant force.
 namespace {
 
-// Every system but a pair: the fused pass of a uniform field, or the loops.
-// Out of line, so that a pair's step (velocity_verlet) saves and restores
-// only the registers it uses.
+// Velocity Verlet on every system but a pair: the fused pass of a uniform
+// field, or the loops. Out of line, so that a pair's step (velocity_verlet)
+// saves and restores only the registers it uses.
 [[gnu::noinline]] void velocity_verlet_arrays(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     const bool fresh = !s.memory_valid;
     auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
@@ -348,12 +341,16 @@ namespace {
 
 }  // namespace
 
+// Velocity Verlet, order 2:
+//   x' = x + h v + (h²/2) a
+//   a' = a(t + h, x', v + h a)
+//   v' = v + (h/2)(a + a')
+// Same positions as leapfrog; velocity-dependent forces see a full Euler
+// prediction of v', which keeps them second order too. One force evaluation
+// per step (a' is the next step's a). Exact for a constant force.
 void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
-    if (s.x.n == 2) {
-        const PairPath path = dynamics.pair_path(2);
-        if (pair::visit(path, [&](const auto& p) { pair_velocity_verlet(dynamics, s, p, path, h); })) return;
-    }
-    velocity_verlet_arrays(dynamics, s, t, h);
+    auto pair_step = [&](const auto& pair, const PairPath& path) { pair_velocity_verlet(dynamics, s, pair, path, h); };
+    if (!pair::step_pair(dynamics, s.x.n, pair_step)) velocity_verlet_arrays(dynamics, s, t, h);
 }
 
 // Position (Störmer) Verlet, order 2:

@@ -117,16 +117,20 @@ template <int kStill, class In, class Out>
     gravity_acceleration<kStill>(pair, x, v, mass, inv_mass, a);
 }
 
-// Calls f with the pair `path` holds (its SpringPair or its PairGravity);
-// false, f not called, where it holds none.
+// A method's pair step: where the block is two particles that Dynamics
+// gives as a pair (Dynamics::pair_path), calls step(pair, path) with its
+// SpringPair or PairGravity and returns true; false otherwise (the method
+// takes its arrays' path). RK4 and velocity Verlet look here first.
 template <class F>
-[[gnu::always_inline]] inline bool visit(const PairPath& path, F&& f) {
+[[gnu::always_inline]] inline bool step_pair(const Dynamics& dynamics, std::size_t particles, F&& step) {
+    if (particles != 2) return false;
+    const PairPath path = dynamics.pair_path(2);
     if (path.spring != nullptr) {
-        f(*path.spring);
+        step(*path.spring, path);
         return true;
     }
     if (path.gravity != nullptr) {
-        f(*path.gravity);
+        step(*path.gravity, path);
         return true;
     }
     return false;

@@ -397,16 +397,11 @@ template <const auto& kTableau>
 template <const auto& kTableau>
 void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     constexpr std::size_t S = std::size(kTableau.b);
-    if (s.x.n == 2) {
-        const PairPath path = dynamics.pair_path(2);
-        if (pair::visit(path, [&](const auto& p) {
-                pair_runge_kutta<kTableau>(s, p, path, h, std::make_index_sequence<S>{});
-            })) {
-            dynamics.count_evaluations(S * 2);
-            return;
-        }
-    }
-    arrays_runge_kutta<kTableau>(dynamics, s, t, h);
+    auto pair_step = [&](const auto& pair, const PairPath& path) {
+        pair_runge_kutta<kTableau>(s, pair, path, h, std::make_index_sequence<S>{});
+        dynamics.count_evaluations(S * 2);
+    };
+    if (!pair::step_pair(dynamics, s.x.n, pair_step)) arrays_runge_kutta<kTableau>(dynamics, s, t, h);
 }
 
 }  // namespace
