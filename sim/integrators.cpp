@@ -265,8 +265,15 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] = (v[k][p] + (0.5 * h) * a[k][p]) + (0.5 * h) * b[k][p];
     }
+    // An array's two values stored together (one 16-byte store each, where
+    // the interleaved stores were 8 bytes each): the next step loads them 16
+    // bytes at a time, which a load can take from one store in flight but
+    // not from two (store-to-load forwarding; two stores cost the loads a
+    // wait until they reach the cache).
     for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p], s.v.c[k][p] = v[k][p], s.a.c[k][p] = b[k][p];
+        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p];
+        for (int p = 0; p < 2; ++p) s.v.c[k][p] = v[k][p];
+        for (int p = 0; p < 2; ++p) s.a.c[k][p] = b[k][p];
     }
     if (s.watch != nullptr) {
         std::size_t passed = 0;
@@ -350,7 +357,7 @@ namespace {
 // per step (a' is the next step's a). Exact for a constant force.
 void velocity_verlet(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     auto pair_step = [&](const auto& pair, const PairPath& path) { pair_velocity_verlet(dynamics, s, pair, path, h); };
-    if (!pair::step_pair(dynamics, s.x.n, pair_step)) velocity_verlet_arrays(dynamics, s, t, h);
+    if (!pair::step_pair(dynamics, s, pair_step)) velocity_verlet_arrays(dynamics, s, t, h);
 }
 
 // Position (Störmer) Verlet, order 2:

@@ -85,6 +85,11 @@ struct StepArrays {
         bool counted = false;
     };
     Watch* watch = nullptr;
+    // The force as a pair (Dynamics::pair_path), looked up once by the
+    // caller for this block: a pair's step then makes no virtual call to
+    // find it (on a bead on its spring the lookup was some 30 instructions
+    // of about 430). nullptr: not looked up, the method asks the Dynamics.
+    const PairPath* pair = nullptr;
 
     // Temporary k for this block, contents undefined.
     Vec3Span scratch(std::size_t k) const { return temporaries[k].span().block(0, x.n); }

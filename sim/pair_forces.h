@@ -13,6 +13,7 @@
 #pragma once
 
 #include "sim/dynamics.h"
+#include "sim/integrators.h"
 #include "sim/newton_gravity.h"
 #include "sim/spring.h"
 
@@ -118,13 +119,14 @@ template <int kStill, class In, class Out>
 }
 
 // A method's pair step: where the block is two particles that Dynamics
-// gives as a pair (Dynamics::pair_path), calls step(pair, path) with its
-// SpringPair or PairGravity and returns true; false otherwise (the method
-// takes its arrays' path). RK4 and velocity Verlet look here first.
+// gives as a pair (StepArrays::pair where the caller looked it up, else
+// Dynamics::pair_path), calls step(pair, path) with its SpringPair or
+// PairGravity and returns true; false otherwise (the method takes its
+// arrays' path). RK4 and velocity Verlet look here first.
 template <class F>
-[[gnu::always_inline]] inline bool step_pair(const Dynamics& dynamics, std::size_t particles, F&& step) {
-    if (particles != 2) return false;
-    const PairPath path = dynamics.pair_path(2);
+[[gnu::always_inline]] inline bool step_pair(const Dynamics& dynamics, const StepArrays& s, F&& step) {
+    if (s.x.n != 2) return false;
+    const PairPath path = s.pair != nullptr ? *s.pair : dynamics.pair_path(2);
     if (path.spring != nullptr) {
         step(*path.spring, path);
         return true;

@@ -401,7 +401,7 @@ void explicit_runge_kutta(Dynamics& dynamics, const StepArrays& s, double t, dou
         pair_runge_kutta<kTableau>(s, pair, path, h, std::make_index_sequence<S>{});
         dynamics.count_evaluations(S * 2);
     };
-    if (!pair::step_pair(dynamics, s.x.n, pair_step)) arrays_runge_kutta<kTableau>(dynamics, s, t, h);
+    if (!pair::step_pair(dynamics, s, pair_step)) arrays_runge_kutta<kTableau>(dynamics, s, t, h);
 }
 
 }  // namespace

@@ -319,11 +319,11 @@ void World::step(const StepSettings& settings) {
     }
     const std::uint64_t steps_before = steps_;
     ParticleForces::SpringTime springs;
-    if (systems_.springs) forces_.time_springs(&springs);
+    if (systems_.springs) time_springs(&springs);
     FrameClock laps;
     run_substeps(settings, laps);
     laps.finish();
-    forces_.time_springs(nullptr);
+    if (systems_.springs) time_springs(nullptr);
     // The spring passes ran inside the particles' laps: their time moves from
     // there to springs. Each pass's interval holds about one of its two clock
     // reads; all of them count as the clocks' cost, not as physics.
@@ -336,6 +336,11 @@ void World::step(const StepSettings& settings) {
     ++times_.sampled_frames;
     times_.sampled_steps += steps_ - steps_before;
     plan_next_sample();
+}
+
+void World::time_springs(ParticleForces::SpringTime* time) {
+    forces_.time_springs(time);
+    prepared_.pair = prepared_.n == 2 ? forces_.pair_path(2) : PairPath{};
 }
 
 void World::plan_next_sample() {
@@ -512,7 +517,11 @@ void World::prepare_step(Integrator integrator) {
     // a false "no" here, the safe side.
     const bool none_pinned =
         std::none_of(state_.inv_mass.begin(), state_.inv_mass.end(), [](double w) { return w == 0.0; });
-    prepared_ = {.info = &info, .n = n, .block = block, .none_pinned = none_pinned};
+    prepared_ = {.info = &info,
+                 .n = n,
+                 .block = block,
+                 .none_pinned = none_pinned,
+                 .pair = n == 2 ? forces_.pair_path(2) : PairPath{}};
     if (n > 0 && n <= block) prepared_.whole = block_arrays(info, 0, n);
 }
 
@@ -529,7 +538,8 @@ StepArrays World::block_arrays(const IntegratorInfo& info, std::size_t first, st
             .temporaries = scratch_.data(),
             .wide = wide_,
             .none_pinned = prepared_.none_pinned,
-            .watch = nullptr};
+            .watch = nullptr,
+            .pair = &prepared_.pair};
 }
 
 // One block's step; the suspects the watchdog's per-particle rules found in

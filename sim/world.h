@@ -231,6 +231,9 @@ private:
     template <class Stopwatch>
     void run_substeps(const StepSettings& settings, Stopwatch& laps);
     void plan_next_sample();  // after a sampled frame: when to sample again
+    // Times the spring passes while `time` is set (forces_.time_springs),
+    // with the prepared pair to match.
+    void time_springs(ParticleForces::SpringTime* time);
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     inline void step_once(Integrator integrator, double h, bool watch_blocks);  // defined in world.cpp only
@@ -285,7 +288,11 @@ private:
         std::size_t n = 0;                     // particles when prepared
         std::size_t block = 0;                 // particles per block
         bool none_pinned = false;              // no particle pinned when prepared (StepArrays::none_pinned)
-        StepArrays whole;                      // the arrays of the one block, when 0 < n <= block
+        // The force as a pair (StepArrays::pair) when n is 2, as the forces
+        // give it now: looked up again while the sampled frames time the
+        // springs (which then take the general path, and back).
+        PairPath pair;
+        StepArrays whole;  // the arrays of the one block, when 0 < n <= block
     };
     PreparedStep prepared_;
     bool memory_valid_ = false;
