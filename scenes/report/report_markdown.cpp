@@ -195,7 +195,7 @@ const char* kFixedCost =
     "checks the result), an overhead the same whatever the number of particles; on one particle it is "
     "most of the step, against odeint's one inlined 3-vector, and it is mostly what the one-particle "
     "ratio measures. On a shared machine that ratio moves from run to run by up to 1.6x on the "
-    "oscillators (our step is some 400 to 680 instructions of straight-line code, odeint's a short loop, "
+    "oscillators (our step is some 340 to 670 instructions of straight-line code, odeint's a short loop, "
     "and a process can run either at one of two speeds; docs/fixed-cost-study.md): read it as a range. "
     "The batch "
     "spreads it over 1000 independent copies of each problem (one World of "
