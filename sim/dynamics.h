@@ -69,9 +69,9 @@ struct PairGravity {
 
 // The whole force on a system of two particles when it is one of the pairs
 // above (at most one of spring and gravity is set), with the masses, kg, and
-// inverse masses, 1/kg, of the whole system: what RK4, velocity Verlet and
-// the Euler methods need to evaluate the force inline (sim/pair_forces.h,
-// pair::step_pair), in one call.
+// inverse masses, 1/kg, of the whole system: what the explicit methods (all
+// but position Verlet) need to evaluate the force inline
+// (sim/pair_forces.h, pair::step_pair), in one call.
 struct PairPath {
     const SpringPair* spring = nullptr;
     const PairGravity* gravity = nullptr;
@@ -97,9 +97,10 @@ public:
     std::uint64_t particle_evaluations() const { return particle_evaluations_; }
 
     // The whole force on `particles` particles as a pair (PairPath; both
-    // pointers nullptr where it is not one): RK4, velocity Verlet and the
-    // Euler methods then evaluate it inline (sim/pair_forces.h), their stages
-    // in registers, and report the evaluations through count_evaluations.
+    // pointers nullptr where it is not one): the explicit methods (all but
+    // position Verlet) then evaluate it inline (sim/pair_forces.h), their
+    // stages in registers, and report the evaluations through
+    // count_evaluations.
     virtual PairPath pair_path(std::size_t /*particles*/) const { return {}; }
 
     // True when no force reads a particle's velocity (no drag, no damper):

@@ -234,6 +234,51 @@ void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double 
 
 // 3. Verlet family -----------------------------------------------------------
 
+namespace {
+
+// Leapfrog on a pair (Dynamics::pair_path), the force inline, the step in
+// registers: the operations of the loops below on each particle (the kick
+// and the drift, the force at the new x and the half-kicked v, the last
+// kick), the same bits; a' written over a as the loops write it, each
+// array's pair stored together, the watchdog's rules counted alike.
+template <class Pair>
+void pair_leapfrog(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
+    const double* mass = path.mass + s.first;
+    const double* inv_mass = path.inv_mass + s.first;
+    if (!s.memory_valid) {
+        pair::acceleration<-1>(pair, s.x.c, s.v.c, mass, inv_mass, s.a.c);
+        dynamics.count_evaluations(2);
+    }
+    double x[3][2], v[3][2], a[3][2];
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) {
+            x[k][p] = s.x.c[k][p], v[k][p] = s.v.c[k][p];
+            v[k][p] += (0.5 * h) * s.a.c[k][p];
+            x[k][p] += h * v[k][p];
+        }
+    }
+    pair::acceleration<-1>(pair, x, v, mass, inv_mass, a);
+    dynamics.count_evaluations(2);
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) v[k][p] += (0.5 * h) * a[k][p];
+    }
+    for (int k = 0; k < 3; ++k) {
+        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p];
+        for (int p = 0; p < 2; ++p) s.v.c[k][p] = v[k][p];
+        for (int p = 0; p < 2; ++p) s.a.c[k][p] = a[k][p];
+    }
+    if (s.watch != nullptr) {
+        std::size_t passed = 0;
+        for (int p = 0; p < 2; ++p) {
+            passed += passes_position(x[0][p], x[1][p], x[2][p], s.watch->box);
+            passed += passes_velocity(v[0][p], v[1][p], v[2][p], s.watch->max_speed2);
+        }
+        s.watch->suspects += 4 - passed, s.watch->counted = true;
+    }
+}
+
+}  // namespace
+
 // Leapfrog, kick-drift-kick, order 2:
 //   v½ = v + (h/2) a(t, x, v)           kick
 //   x' = x + h v½                        drift
@@ -241,6 +286,8 @@ void symplectic_euler(Dynamics& dynamics, const StepArrays& s, double t, double 
 // The last acceleration is the next step's first (kept in s.a), so it costs
 // one force evaluation per step. Exact for a constant force.
 void leapfrog(Dynamics& dynamics, const StepArrays& s, double t, double h) {
+    auto pair_step = [&](const auto& pair, const PairPath& path) { pair_leapfrog(dynamics, s, pair, path, h); };
+    if (pair::step_pair(dynamics, s, pair_step)) return;
     const bool fresh = !s.memory_valid;  // s.a must be evaluated first
     auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
         if (rebuild) a = accel(v);

@@ -122,7 +122,7 @@ template <int kStill, class In, class Out>
 // gives as a pair (StepArrays::pair where the caller looked it up, else
 // Dynamics::pair_path), calls step(pair, path) with its SpringPair or
 // PairGravity and returns true; false otherwise (the method takes its
-// arrays' path). RK4, velocity Verlet and the Euler methods look here
+// arrays' path). Every explicit method but position Verlet looks here
 // first.
 template <class F>
 [[gnu::always_inline]] inline bool step_pair(const Dynamics& dynamics, const StepArrays& s, F&& step) {

@@ -405,12 +405,13 @@ void expect_same_bits(StepFn method, Dynamics& one, Dynamics& other, const Vec3A
 // The methods with a pair path (the force inline, sim/pair_forces.h).
 const std::pair<const char*, StepFn> kPairMethods[] = {{"RK4", rk4},
                                                        {"velocity Verlet", velocity_verlet},
+                                                       {"leapfrog", leapfrog},
                                                        {"symplectic Euler", symplectic_euler},
                                                        {"forward Euler", forward_euler}};
 
 // RK4 on a bead and its anchor (one spring, a field) leaves an anchor at
-// rest out of its arithmetic; velocity Verlet and the Eulers step the pair
-// inline too.
+// rest out of its arithmetic; velocity Verlet, leapfrog and the Eulers step
+// the pair inline too.
 // Against the general few-particle path (a World's sampled frames take it:
 // the spring pass timed on its own), the same bits: the anchor at rest,
 // moving (pinned particles' velocities are 0 in a World, but the step does
@@ -478,7 +479,7 @@ ParticleModel stiff_bead(std::size_t extra) {
 // Past its stability limit (ω h = 3) every explicit method blows the stiff
 // bead up, over frames (RK4's amplitude grows 1.5 times a step, symplectic
 // Euler's 6.9 times), and the watchdog, whose rules the pair paths
-// (RK4's, velocity Verlet's, the Eulers') apply themselves, stops it at the frame and for
+// (all but position Verlet's) apply themselves, stops it at the frame and for
 // the reason it does when the bead is stepped among 20 more particles (the
 // array path). Not on the first frame: the World times it, and a timed frame
 // takes the general path.
