@@ -148,6 +148,29 @@ void ensure_acceleration(Dynamics& dynamics, const StepArrays& s, double t) {
     }
 }
 
+// A pair's values of one array (sim/pair_forces.h), component by component,
+// in registers: the pair steps below read each array once and write each
+// component's two values together, one 16-byte store, as the next step loads
+// them (a load cannot take its bytes from two stores in flight: it waits for
+// them to reach the cache).
+using PairValues = double[3][2];
+inline void load_pair(const Vec3Span& from, PairValues& to) {
+    for (int k = 0; k < 3; ++k) to[k][0] = from.c[k][0], to[k][1] = from.c[k][1];
+}
+inline void store_pair(const PairValues& from, const Vec3Span& to) {
+    for (int k = 0; k < 3; ++k) to.c[k][0] = from[k][0], to.c[k][1] = from[k][1];
+}
+// The watchdog's per-particle rules on a pair's new x and v, counted as the
+// loops count them.
+inline void watch_pair(const StepArrays& s, const PairValues& x, const PairValues& v) {
+    if (s.watch == nullptr) return;
+    std::size_t passed = 0;
+    for (int p = 0; p < 2; ++p) {
+        passed += passes(x[0][p], x[1][p], x[2][p], v[0][p], v[1][p], v[2][p], s.watch->max_speed2, s.watch->box);
+    }
+    s.watch->suspects += 2 - passed, s.watch->counted = true;
+}
+
 // 2. Explicit one-stage methods -------------------------------------------------
 
 // The two Euler updates of one particle's component, given its acceleration.
@@ -173,27 +196,15 @@ inline void euler_update(double& x, double& v, double a, double h) {
 // a load that waits for two stores to reach the cache.
 template <Euler kKind, class Pair>
 void pair_euler(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
-    double x[3][2], v[3][2], a[3][2];
-    for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) x[k][p] = s.x.c[k][p], v[k][p] = s.v.c[k][p];
-    }
+    PairValues x, v, a;
+    load_pair(s.x, x), load_pair(s.v, v);
     pair::acceleration<-1>(pair, x, v, path.mass + s.first, path.inv_mass + s.first, a);
     dynamics.count_evaluations(2);
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) euler_update<kKind>(x[k][p], v[k][p], a[k][p], h);
     }
-    // Each array's pair in one store, as the next step loads it.
-    for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p];
-        for (int p = 0; p < 2; ++p) s.v.c[k][p] = v[k][p];
-    }
-    if (s.watch != nullptr) {
-        std::size_t passed = 0;
-        for (int p = 0; p < 2; ++p) {
-            passed += passes(x[0][p], x[1][p], x[2][p], v[0][p], v[1][p], v[2][p], s.watch->max_speed2, s.watch->box);
-        }
-        s.watch->suspects += 2 - passed, s.watch->counted = true;
-    }
+    store_pair(x, s.x), store_pair(v, s.v);
+    watch_pair(s, x, v);
 }
 
 template <Euler kKind>
@@ -249,32 +260,18 @@ void pair_leapfrog(Dynamics& dynamics, const StepArrays& s, const Pair& pair, co
         pair::acceleration<-1>(pair, s.x.c, s.v.c, mass, inv_mass, s.a.c);
         dynamics.count_evaluations(2);
     }
-    double x[3][2], v[3][2], a[3][2];
+    PairValues x, v, a;
+    load_pair(s.x, x), load_pair(s.v, v), load_pair(s.a, a);
     for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) {
-            x[k][p] = s.x.c[k][p], v[k][p] = s.v.c[k][p];
-            v[k][p] += (0.5 * h) * s.a.c[k][p];
-            x[k][p] += h * v[k][p];
-        }
+        for (int p = 0; p < 2; ++p) v[k][p] += (0.5 * h) * a[k][p], x[k][p] += h * v[k][p];
     }
     pair::acceleration<-1>(pair, x, v, mass, inv_mass, a);
     dynamics.count_evaluations(2);
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] += (0.5 * h) * a[k][p];
     }
-    for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p];
-        for (int p = 0; p < 2; ++p) s.v.c[k][p] = v[k][p];
-        for (int p = 0; p < 2; ++p) s.a.c[k][p] = a[k][p];
-    }
-    if (s.watch != nullptr) {
-        std::size_t passed = 0;
-        for (int p = 0; p < 2; ++p) {
-            passed += passes_position(x[0][p], x[1][p], x[2][p], s.watch->box);
-            passed += passes_velocity(v[0][p], v[1][p], v[2][p], s.watch->max_speed2);
-        }
-        s.watch->suspects += 4 - passed, s.watch->counted = true;
-    }
+    store_pair(x, s.x), store_pair(v, s.v), store_pair(a, s.a);
+    watch_pair(s, x, v);
 }
 
 }  // namespace
