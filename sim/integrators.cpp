@@ -160,6 +160,14 @@ inline void load_pair(const Vec3Span& from, PairValues& to) {
 inline void store_pair(const PairValues& from, const Vec3Span& to) {
     for (int k = 0; k < 3; ++k) to.c[k][0] = from[k][0], to.c[k][1] = from[k][1];
 }
+// A pair's a (s.a) at the start of the step, the force inline, unless s.a
+// still holds it from the last step (ensure_acceleration's pair form).
+template <class Pair>
+void ensure_pair_acceleration(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path) {
+    if (s.memory_valid) return;
+    pair::acceleration<-1>(pair, s.x.c, s.v.c, path.mass + s.first, path.inv_mass + s.first, s.a.c);
+    dynamics.count_evaluations(2);
+}
 // The watchdog's per-particle rules on a pair's new x and v, counted as the
 // loops count them.
 inline void watch_pair(const StepArrays& s, const PairValues& x, const PairValues& v) {
@@ -254,18 +262,13 @@ namespace {
 // array's pair stored together, the watchdog's rules counted alike.
 template <class Pair>
 void pair_leapfrog(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
-    const double* mass = path.mass + s.first;
-    const double* inv_mass = path.inv_mass + s.first;
-    if (!s.memory_valid) {
-        pair::acceleration<-1>(pair, s.x.c, s.v.c, mass, inv_mass, s.a.c);
-        dynamics.count_evaluations(2);
-    }
+    ensure_pair_acceleration(dynamics, s, pair, path);
     PairValues x, v, a;
     load_pair(s.x, x), load_pair(s.v, v), load_pair(s.a, a);
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] += (0.5 * h) * a[k][p], x[k][p] += h * v[k][p];
     }
-    pair::acceleration<-1>(pair, x, v, mass, inv_mass, a);
+    pair::acceleration<-1>(pair, x, v, path.mass + s.first, path.inv_mass + s.first, a);
     dynamics.count_evaluations(2);
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] += (0.5 * h) * a[k][p];
