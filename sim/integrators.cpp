@@ -327,13 +327,15 @@ template <class Pair>
 void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& pair, const PairPath& path, double h) {
     const double* mass = path.mass + s.first;
     const double* inv_mass = path.inv_mass + s.first;
+    // (ensure_pair_acceleration's lines written out: through it, and through
+    // load_pair, this step compiled to 406-408 instructions against 398.)
     if (!s.memory_valid) {
         pair::acceleration<-1>(pair, s.x.c, s.v.c, mass, inv_mass, s.a.c);
         dynamics.count_evaluations(2);
     }
     // Every value read first, every one written last: the stores cannot
     // alias the loads then, and the arithmetic stays in registers.
-    double x[3][2], v[3][2], a[3][2], w[3][2], b[3][2];  // x', v, a, the predicted velocity, a'
+    PairValues x, v, a, w, b;  // x', v, a, the predicted velocity, a'
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) {
             x[k][p] = s.x.c[k][p], v[k][p] = s.v.c[k][p], a[k][p] = s.a.c[k][p];
@@ -346,16 +348,7 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
     for (int k = 0; k < 3; ++k) {
         for (int p = 0; p < 2; ++p) v[k][p] = (v[k][p] + (0.5 * h) * a[k][p]) + (0.5 * h) * b[k][p];
     }
-    // An array's two values stored together (one 16-byte store each, where
-    // the interleaved stores were 8 bytes each): the next step loads them 16
-    // bytes at a time, which a load can take from one store in flight but
-    // not from two (store-to-load forwarding; two stores cost the loads a
-    // wait until they reach the cache).
-    for (int k = 0; k < 3; ++k) {
-        for (int p = 0; p < 2; ++p) s.x.c[k][p] = x[k][p];
-        for (int p = 0; p < 2; ++p) s.v.c[k][p] = v[k][p];
-        for (int p = 0; p < 2; ++p) s.a.c[k][p] = b[k][p];
-    }
+    store_pair(x, s.x), store_pair(v, s.v), store_pair(b, s.a);
     if (s.watch != nullptr) {
         std::size_t passed = 0;
         for (int p = 0; p < 2; ++p) {

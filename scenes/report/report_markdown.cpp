@@ -169,8 +169,8 @@ void peer_table(std::ostream& md, const Findings& f) {
     md << "## Peers: boost::odeint\n\n"
        << "odeint's steppers on the same problems and dt sweeps (dashed in the plots). The ratio is our cost at "
           "the same error over theirs (wall time, median over their points; below 1: ours is cheaper), each "
-          "point of ours timed again beside theirs at the same dt, run for run (one of ours, one of theirs, "
-          "in turn, each side's median), so that both see the same load.\n\n"
+          "point of ours timed again beside theirs at the same dt, in blocks of runs taken in turn (a few "
+          "milliseconds of ours, then of theirs, each side's median), so that both see the same load.\n\n"
        << "| peer | compared with | problem | fitted order | our cost / theirs, one particle | batch of 1000 | "
           "ns per copy-step, ours / theirs |\n|---|---|---|---|---|---|---|\n";
     for (const PeerRow& r : f.peers) {

@@ -194,9 +194,10 @@ std::vector<PeerSweep> measure_peers(const std::vector<Problem>& problems, const
             const sim::IntegratorInfo& ours = sim::integrator_info(sim::integrator_from_name(peer.ours).value());
             double dt = peer.order >= 4 ? p.dt4 : p.dt2;
             for (int k = 0; k < settings.dt_count; ++k, dt /= 2.0) {
-                // Ours again, beside theirs at the same dt, run for run: the
-                // ratio then compares timings taken together, not minutes
-                // apart (the sweeps above), which the machine's load moves by a fifth.
+                // Ours again, beside theirs at the same dt, in blocks taken in
+                // turn: the ratio then compares timings taken together, not
+                // minutes apart (the sweeps above), which the machine's load
+                // moves by a fifth.
                 auto [mine, theirs] = measure_pair(p, ours, peer, dt, settings.timing);
                 sweep.ours_samples.push_back(std::move(mine));
                 sweep.samples.push_back(std::move(theirs));
