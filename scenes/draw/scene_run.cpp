@@ -60,19 +60,33 @@ void SceneRun::set_step(const sim::StepSettings& step) {
     step_ = step;
 }
 
+SceneRun::Snapshot SceneRun::snapshot() const {
+    Snapshot s{world_.snapshot(), frame_, {}, {}};
+    s.trail_ends.reserve(trails_.size());
+    for (const auto& trail : trails_) {
+        s.trail_points.insert(s.trail_points.end(), trail.begin(), trail.end());
+        s.trail_ends.push_back(static_cast<std::uint32_t>(s.trail_points.size()));
+    }
+    return s;
+}
+
 std::size_t SceneRun::Snapshot::bytes() const {
-    std::size_t trail_points = 0;
-    for (const auto& trail : trails) trail_points += trail.size();
     const sim::World::Snapshot& w = world;
     return sizeof(*this) + sizeof(double) * 3 * (2 * w.state.size() + w.memory_a.size() + w.memory_x_prev.size()) +
            sizeof(double) * (2 * w.state.size() + w.plastic_rest.size()) + sizeof(sim::BodyState) * w.bodies.size() +
-           sizeof(render::Vec3) * trail_points + sizeof(std::deque<render::Vec3>) * trails.size();
+           sizeof(render::Vec3) * trail_points.size() + sizeof(std::uint32_t) * trail_ends.size();
 }
 
 void SceneRun::restore(const Snapshot& snapshot) {
     world_.restore(snapshot.world);
     frame_ = snapshot.frame;
-    trails_ = snapshot.trails;
+    std::uint32_t begin = 0;
+    for (std::size_t i = 0; i < trails_.size() && i < snapshot.trail_ends.size(); ++i) {
+        const auto first = snapshot.trail_points.begin() + begin;
+        const auto last = snapshot.trail_points.begin() + snapshot.trail_ends[i];
+        trails_[i].assign(first, last);
+        begin = snapshot.trail_ends[i];
+    }
     while (!energy_.empty() && energy_.back().x() > static_cast<float>(time()) + 1e-6f) energy_.pop_back();
 }
 
