@@ -2,6 +2,7 @@
 // it was left. Exit 1 when the watchdog stopped it, 2 without a display.
 #include "scenes/cli/commands.h"
 
+#include "scenes/view/frame_budget.h"
 #include "scenes/view/view.h"
 
 #include <cstdio>
@@ -28,6 +29,15 @@ void print_parts(const ViewFrameParts& f) {
         p.translucent, p.trails, p.overlays, p.resolve, f.blit, f.panel, f.swap);
 }
 
+// --verbose: the running frames' spread, against the budget a frame keeps to.
+void print_spread(const FrameSpread& s) {
+    if (s.frames == 0) return;
+    std::printf(
+        "view: running frames, swap to swap, ms: median %.1f, 95th percentile %.1f, worst %.1f; %d of %d over "
+        "the %.0f ms budget\n",
+        s.median, s.p95, s.worst, s.over_budget, s.frames, view::FrameBudget::kBudgetMs);
+}
+
 int view(ViewArgs& a) {
     const auto [w, h] = parse_size(a.size);
     a.options.width = w;
@@ -44,7 +54,7 @@ int view(ViewArgs& a) {
     std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s%s\n", scene.name.c_str(), v.frame, v.time,
                 v.state_hash.c_str(), v.exploded ? " (exploded)" : "", scales,
                 a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
-    if (a.options.verbose) print_parts(v.parts);
+    if (a.options.verbose) print_parts(v.parts), print_spread(v.spread);
     const int replay = report_replay(scene, v.diverged_frame, v.frame);
     return v.exploded ? kExitFailed : replay;
 }
@@ -77,7 +87,8 @@ Command add_view(CLI::App& app) {
                     "scene then steps once per drawn frame while running");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
-                  "and print the means on exit (each pass then waits for the renderer: a little slower)");
+                  "and print the means on exit, then the running frames' spread swap to swap (median, 95th percentile, "
+                  "worst, how many over the 25 ms budget); each pass then waits for the renderer: a little slower");
     return {cmd, [args] { return view(*args); }};
 }
 

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -322,6 +323,19 @@ private:
     ViewFrameParts frame_, sum_;
 };
 
+FrameSpread spread_of(std::vector<double> ms) {
+    FrameSpread s;
+    if (ms.empty()) return s;
+    std::sort(ms.begin(), ms.end());
+    s.frames = static_cast<int>(ms.size());
+    s.median = ms[ms.size() / 2];
+    s.p95 = ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(ms.size()))) - 1)];
+    s.worst = ms.back();
+    s.over_budget = static_cast<int>(
+        std::count_if(ms.begin(), ms.end(), [](double t) { return t > view::FrameBudget::kBudgetMs; }));
+    return s;
+}
+
 }  // namespace
 
 // --- run_viewer: the loop ----------------------------------------------------------
@@ -352,6 +366,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
     view::FrameBudget budget(static_cast<float>(options.render_scale));
     float scale_min = 0.0f, scale_max = 0.0f;  // of the frames drawn running
     FramePartsClock parts(options.verbose);
+    std::vector<double> running_ms;  // each frame drawn running, swap to swap
     for (;;) {
         glfwPollEvents();
         if (script) script->to_viewer(window, ++drawn);
@@ -420,7 +435,10 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
         const double frame_ms = 1e3 * std::chrono::duration<double>(swapped - last_swap).count();
         last_swap = swapped;
         budget.frame_took(1e3 * std::chrono::duration<double>(swap_start - now).count(), frame_ms, drew_running);
-        if (drew_running) parts.keep(frame_ms, renderer.last_frame().passes);
+        if (drew_running) {
+            parts.keep(frame_ms, renderer.last_frame().passes);
+            running_ms.push_back(frame_ms);
+        }
         if (done) break;
     }
     return {viewer.run().frame(),
@@ -430,7 +448,8 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             viewer.run().diverged_frame(),
             scale_min,
             scale_max,
-            parts.means()};
+            parts.means(),
+            spread_of(std::move(running_ms))};
 }
 
 }  // namespace scenes

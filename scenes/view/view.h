@@ -58,6 +58,15 @@ struct ViewFrameParts {
     double frame = 0.0;                  // the whole frame, swap to swap
 };
 
+// The running frames' whole times (swap to swap), ms: every frame drawn
+// running, with or without --verbose (whose waits for the renderer add a
+// little to each).
+struct FrameSpread {
+    int frames = 0;
+    double median = 0.0, p95 = 0.0, worst = 0.0;  // ms
+    int over_budget = 0;                          // frames over view::FrameBudget::kBudgetMs
+};
+
 struct ViewResult {
     int frame = 0;      // the scene frame shown last
     double time = 0.0;  // s, its simulated time
@@ -68,6 +77,7 @@ struct ViewResult {
     // and highest; 0 when no frame was drawn running.
     float running_scale_min = 0.0f, running_scale_max = 0.0f;
     ViewFrameParts parts;  // options.verbose; else zero
+    FrameSpread spread;
 };
 
 // Opens the window and runs until it is closed (or after exit_after frames).

@@ -203,6 +203,20 @@ TEST_F(View, AtHalfScaleWhileRunningTheScreenshotAndTheLastFrameAreWhole) {
     const double frame = std::stod(parts[2]), physics = std::stod(parts[3]), rendering = std::stod(parts[4]);
     EXPECT_GT(rendering, 0.0) << r.out;
     EXPECT_GT(frame, physics + rendering) << "ms: a frame is more than its physics and its drawing: " << r.out;
+    // The same frames' spread: as many, the median, 95th percentile and
+    // worst in order, the worst at least the mean.
+    std::smatch spread;
+    ASSERT_TRUE(std::regex_search(r.out, spread,
+                                  std::regex("running frames, swap to swap, ms: median ([0-9.]+), 95th percentile "
+                                             "([0-9.]+), worst ([0-9.]+); ([0-9]+) of ([0-9]+) over the 25 ms budget")))
+        << r.out;
+    const double median = std::stod(spread[1]), p95 = std::stod(spread[2]), worst = std::stod(spread[3]);
+    EXPECT_EQ(spread[5], parts[1]) << r.out;
+    EXPECT_LE(std::stoi(spread[4]), std::stoi(spread[5])) << r.out;
+    EXPECT_GT(median, 0.0) << r.out;
+    EXPECT_LE(median, p95) << r.out;
+    EXPECT_LE(p95, worst) << r.out;
+    EXPECT_GE(worst + 0.05, frame) << "ms: the worst frame is at least the mean (both rounded): " << r.out;
     auto still = [](int frames) {
         const scenes::SceneDef scene = scenes::load_scene(scenes::resolve_scene("pendulum"));
         scenes::SceneRun run(scene);
