@@ -196,15 +196,14 @@ const char* kFixedCost =
     "most of the step, against odeint's one inlined 3-vector, and it is mostly what the one-particle "
     "ratio measures. On a shared machine that ratio moves from run to run by up to 1.6x on the "
     "oscillators (our step is some 340 to 670 instructions of straight-line code, odeint's a short loop, "
-    "and a process can run either at one of two speeds; docs/fixed-cost-study.md): read it as a range. "
-    "The batch "
-    "spreads it over 1000 independent copies of each problem (one World of "
+    "and the machine runs our step at one of two speeds, by periods; docs/fixed-cost-study.md): read it "
+    "as a range. The batch spreads it over 1000 independent copies of each problem (one World of "
     "1000 particles against one odeint state of 6000 doubles; the Kepler copies each fall towards a "
     "fixed attractor, CentralGravity, so that they do not attract each other), so what it shows is the "
     "integrators' and the forces' own cost per particle (both sides built at the same width: AVX2 where "
-    "the CPU has it, as our World runs). Its ratio is at equal error: our time per "
-    "step per copy over odeint's, times our steps over theirs for the same error, from the single "
-    "copy's sweeps (1.00 for the same method; both sides' errors on the batch are in report.json's "
+    "the CPU has it, as our World runs; both sides' arrays start on a cache line). Its ratio is at equal "
+    "error: our time per step per copy over odeint's, times our steps over theirs for the same error, "
+    "from the single copy's sweeps (1.00 for the same method; both sides' errors on the batch are in report.json's "
     "`batch`).";
 
 // The batch rows at equal dt because the single copy's sweeps do not reach

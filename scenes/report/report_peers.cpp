@@ -199,15 +199,23 @@ struct PeerBatchRun {
     double seconds = 0.0;   // wall time of the steps
 };
 
-// One run of `peer` on the copies: std::vector<double> states, odeint's
-// default range algebra (its temporaries are sized at the first step, then
-// nothing is allocated). Its steps are built at our World's width (AVX2
-// where the CPU has it, sim/cpu.h), so that the ratio compares the
-// integrators, not the instruction sets.
+// odeint's state on the batch: std::vector starting on a cache line, as
+// our World's arrays do (sim::Vec3Array). With malloc's 16-byte alignment
+// it started at 16, 32 or 48 bytes into a line in some of a report's
+// batches, and its 32-byte loads then straddled lines: odeint's velocity
+// Verlet read 1.28-1.48 ns a copy-step in the report against 1.07-1.15 in
+// a process of its own, which flattered our ratio.
+using BatchState = std::vector<double, sim::CacheLineAllocator<double>>;
+
+// One run of `peer` on the copies: BatchState states, odeint's default range
+// algebra (its temporaries are sized at the first step, then nothing is
+// allocated). Its steps are built at our World's width (AVX2 where the CPU
+// has it, sim/cpu.h), so that the ratio compares the integrators, not the
+// instruction sets.
 template <class Accel>
 PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& copies, double dt, long steps) {
     const std::size_t n = copies.x0.size();
-    std::vector<double> q(3 * n), p(3 * n);
+    BatchState q(3 * n), p(3 * n);
     for (std::size_t c = 0; c < n; ++c) {
         for (std::size_t k = 0; k < 3; ++k) {
             q[k * n + c] = copies.x0[c][static_cast<int>(k)];
@@ -217,10 +225,10 @@ PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& c
     PeerBatchRun run;
     double t = 0.0;
     if (peer == "odeint_runge_kutta4") {
-        std::vector<double> y(q);
+        BatchState y(q);
         y.insert(y.end(), p.begin(), p.end());
-        odeint::runge_kutta4<std::vector<double>> stepper;
-        auto f = [&](const std::vector<double>& s, std::vector<double>& d, double) {
+        odeint::runge_kutta4<BatchState> stepper;
+        auto f = [&](const BatchState& s, BatchState& d, double) {
             std::copy(s.begin() + static_cast<std::ptrdiff_t>(3 * n), s.end(), d.begin());
             accel(s.data(), s.data() + 3 * n, d.data() + 3 * n, n);
         };
@@ -229,11 +237,10 @@ PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& c
             for (long i = 0; i < steps; ++i, t += dt) stepper.do_step(f, y, t, dt);
         });
         run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        y.resize(3 * n);
-        run.x = std::move(y);
+        run.x.assign(y.begin(), y.begin() + static_cast<std::ptrdiff_t>(3 * n));
     } else if (peer == "odeint_velocity_verlet") {
-        odeint::velocity_verlet<std::vector<double>> stepper;
-        auto f = [&](const std::vector<double>& qq, const std::vector<double>& pp, std::vector<double>& a, double) {
+        odeint::velocity_verlet<BatchState> stepper;
+        auto f = [&](const BatchState& qq, const BatchState& pp, BatchState& a, double) {
             accel(qq.data(), pp.data(), a.data(), n);
         };
         const auto start = Clock::now();
@@ -243,7 +250,7 @@ PeerBatchRun integrate_batch(std::string_view peer, Accel accel, const Copies& c
             }
         });
         run.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-        run.x = std::move(q);
+        run.x.assign(q.begin(), q.end());
     } else {
         throw sim::InputError("report: no batch of the peer '" + std::string(peer) + "'");
     }
