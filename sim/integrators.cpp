@@ -349,14 +349,7 @@ void pair_velocity_verlet(Dynamics& dynamics, const StepArrays& s, const Pair& p
         for (int p = 0; p < 2; ++p) v[k][p] = (v[k][p] + (0.5 * h) * a[k][p]) + (0.5 * h) * b[k][p];
     }
     store_pair(x, s.x), store_pair(v, s.v), store_pair(b, s.a);
-    if (s.watch != nullptr) {
-        std::size_t passed = 0;
-        for (int p = 0; p < 2; ++p) {
-            passed += passes_position(x[0][p], x[1][p], x[2][p], s.watch->box);
-            passed += passes_velocity(v[0][p], v[1][p], v[2][p], s.watch->max_speed2);
-        }
-        s.watch->suspects += 4 - passed, s.watch->counted = true;
-    }
+    watch_pair(s, x, v);
 }
 
 }  // namespace

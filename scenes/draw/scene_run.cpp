@@ -62,6 +62,9 @@ void SceneRun::set_step(const sim::StepSettings& step) {
 
 SceneRun::Snapshot SceneRun::snapshot() const {
     Snapshot s{world_.snapshot(), frame_, {}, {}};
+    std::size_t points = 0;
+    for (const auto& trail : trails_) points += trail.size();
+    s.trail_points.reserve(points);
     s.trail_ends.reserve(trails_.size());
     for (const auto& trail : trails_) {
         s.trail_points.insert(s.trail_points.end(), trail.begin(), trail.end());

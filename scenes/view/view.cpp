@@ -329,7 +329,7 @@ FrameSpread spread_of(std::vector<double> ms) {
     std::sort(ms.begin(), ms.end());
     s.frames = static_cast<int>(ms.size());
     s.median = ms[ms.size() / 2];
-    s.p95 = ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(ms.size()))) - 1)];
+    s.p95 = ms[static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(ms.size()))) - 1];  // 1 .. size
     s.worst = ms.back();
     s.over_budget = static_cast<int>(
         std::count_if(ms.begin(), ms.end(), [](double t) { return t > view::FrameBudget::kBudgetMs; }));
