@@ -43,6 +43,9 @@ public:
     static constexpr std::size_t kMaxQueuedReads = 4;
     void queue_read_back();
     Image take_read_back(int channels = 3);
+    // The same into `into`, whose storage is reused where it holds the frame
+    // (a video takes one frame after another into the same image).
+    void take_read_back(Image& into, int channels = 3);
     std::size_t queued_read_backs() const;
     // draw() then read_back().
     Image render(const DrawList& list, const RenderSettings& settings, int channels = 3);

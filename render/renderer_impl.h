@@ -148,11 +148,18 @@ struct Renderer::Impl {
     // Read-back through pixel-buffer objects (renderer_read.cpp): a read is
     // queued behind the frame into a buffer of its own and collected later,
     // so that the next frame can be drawn meanwhile.
-    struct PendingRead {
+    // A pixel-pack buffer and the bytes of its storage: a read of a size the
+    // storage holds reuses it (new storage for each read, 3.7 MB a 720p
+    // frame, came as fresh pages: about a thousand page faults a frame).
+    struct PackBuffer {
         GLuint buffer = 0;
+        std::size_t storage = 0;  // bytes
+    };
+    struct PendingRead {
+        PackBuffer pack;
         int width = 0, height = 0;
     };
-    std::vector<GLuint> free_buffers;      // pixel-pack buffers not holding a read
+    std::vector<PackBuffer> free_buffers;  // not holding a read
     std::deque<PendingRead> queued_reads;  // queue_read_back()'s, oldest first
 
     detail::PassItems solid, ghost;
@@ -185,7 +192,7 @@ struct Renderer::Impl {
 
     // renderer_read.cpp: reading frames back.
     PendingRead start_read(GLuint framebuffer, const char* what);
-    Image finish_read(const PendingRead& read, int channels, const char* what);
+    void finish_read(const PendingRead& read, int channels, const char* what, Image& into);
 
     // renderer_resources.cpp: GL objects.
     void create_resources();

@@ -43,22 +43,27 @@ void check_channels(int channels, const char* what) {
 
 // Queues the read of `framebuffer` (0: the window's back buffer) into a
 // pixel-pack buffer; GL runs it after the commands before it, and the caller
-// may go on drawing.
+// may go on drawing. A free buffer's storage is kept where it holds the
+// frame: a read is always collected (mapped, finish_read) before its buffer
+// is free again, so nothing can still be using it.
 Renderer::Impl::PendingRead Renderer::Impl::start_read(GLuint framebuffer, const char* what) {
     context.make_current();
     // The window shows the frame at the size asked; the targets hold it at its scale.
     const int w = framebuffer == 0 ? view_width : width;
     const int h = framebuffer == 0 ? view_height : height;
-    PendingRead read{0, w, h};
+    PendingRead read{{}, w, h};
     if (free_buffers.empty()) {
-        gl.GenBuffers(1, &read.buffer);
+        gl.GenBuffers(1, &read.pack.buffer);
     } else {
-        read.buffer = free_buffers.back();
+        read.pack = free_buffers.back();
         free_buffers.pop_back();
     }
-    const auto bytes = static_cast<GLsizeiptr>(4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-    gl.BindBuffer(GL_PIXEL_PACK_BUFFER, read.buffer);
-    gl.BufferData(GL_PIXEL_PACK_BUFFER, bytes, nullptr, GL_STREAM_READ);
+    const std::size_t bytes = 4 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    gl.BindBuffer(GL_PIXEL_PACK_BUFFER, read.pack.buffer);
+    if (read.pack.storage < bytes) {
+        gl.BufferData(GL_PIXEL_PACK_BUFFER, static_cast<GLsizeiptr>(bytes), nullptr, GL_STREAM_READ);
+        read.pack.storage = bytes;
+    }
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
     gl.ReadBuffer(framebuffer == 0 ? GL_BACK : GL_COLOR_ATTACHMENT0);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -67,42 +72,42 @@ Renderer::Impl::PendingRead Renderer::Impl::start_read(GLuint framebuffer, const
     try {
         check_errors(what);
     } catch (const RenderError&) {
-        free_buffers.push_back(read.buffer);  // deleted with the others
+        free_buffers.push_back(read.pack);  // deleted with the others
         throw;
     }
     return read;
 }
 
-// Waits for the read, and returns its pixels as an Image; the buffer is free again.
-Image Renderer::Impl::finish_read(const PendingRead& read, int channels, const char* what) {
+// Waits for the read, and puts its pixels into `into` (its storage reused
+// where it holds them); the buffer is free again.
+void Renderer::Impl::finish_read(const PendingRead& read, int channels, const char* what, Image& into) {
     context.make_current();
-    Image image;
-    image.width = read.width;
-    image.height = read.height;
-    image.channels = channels;
-    image.pixels.resize(static_cast<std::size_t>(read.width) * static_cast<std::size_t>(read.height) *
-                        static_cast<std::size_t>(channels));
+    into.width = read.width;
+    into.height = read.height;
+    into.channels = channels;
+    into.pixels.resize(static_cast<std::size_t>(read.width) * static_cast<std::size_t>(read.height) *
+                       static_cast<std::size_t>(channels));
     const auto bytes =
         static_cast<GLsizeiptr>(4 * static_cast<std::size_t>(read.width) * static_cast<std::size_t>(read.height));
-    gl.BindBuffer(GL_PIXEL_PACK_BUFFER, read.buffer);
+    gl.BindBuffer(GL_PIXEL_PACK_BUFFER, read.pack.buffer);
     const void* mapped = gl.MapBufferRange(GL_PIXEL_PACK_BUFFER, 0, bytes, GL_MAP_READ_BIT);
     if (mapped != nullptr) {
-        to_image(static_cast<const std::uint8_t*>(mapped), read.width, read.height, channels, image.pixels.data());
+        to_image(static_cast<const std::uint8_t*>(mapped), read.width, read.height, channels, into.pixels.data());
         gl.UnmapBuffer(GL_PIXEL_PACK_BUFFER);
     }
     gl.BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-    free_buffers.push_back(read.buffer);
+    free_buffers.push_back(read.pack);
     check_errors(what);
     if (mapped == nullptr) throw RenderError(ErrorKind::gl, std::string("cannot map the pixel buffer while ") + what);
-    return image;
 }
 
 Image Renderer::read_back(int channels) {
     check_channels(channels, "read_back");
     if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_back: nothing has been drawn yet");
     const auto start = std::chrono::steady_clock::now();
-    Image image = impl_->finish_read(impl_->start_read(impl_->resolve_fbo, "reading the frame back"), channels,
-                                     "reading the frame back");
+    Image image;
+    impl_->finish_read(impl_->start_read(impl_->resolve_fbo, "reading the frame back"), channels,
+                       "reading the frame back", image);
     if (impl_->time_passes) {
         impl_->stats.passes.read_back =
             1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -125,17 +130,22 @@ void Renderer::queue_read_back() {
 std::size_t Renderer::queued_read_backs() const { return impl_->queued_reads.size(); }
 
 Image Renderer::take_read_back(int channels) {
+    Image image;
+    take_read_back(image, channels);
+    return image;
+}
+
+void Renderer::take_read_back(Image& into, int channels) {
     check_channels(channels, "take_read_back");
     if (impl_->queued_reads.empty()) throw RenderError(ErrorKind::bad_input, "take_read_back: no frame is queued");
     const auto start = std::chrono::steady_clock::now();
     const Impl::PendingRead read = impl_->queued_reads.front();
     impl_->queued_reads.pop_front();
-    Image image = impl_->finish_read(read, channels, "reading a queued frame back");
+    impl_->finish_read(read, channels, "reading a queued frame back", into);
     if (impl_->time_passes) {
         impl_->stats.passes.read_back =
             1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
-    return image;
 }
 
 Image Renderer::read_window(int channels) {
@@ -143,7 +153,9 @@ Image Renderer::read_window(int channels) {
     if (impl_->context.window() == nullptr)
         throw RenderError(ErrorKind::bad_input, "read_window: this context has no window");
     if (!impl_->has_frame) throw RenderError(ErrorKind::bad_input, "read_window: nothing has been drawn yet");
-    return impl_->finish_read(impl_->start_read(0, "reading the window back"), channels, "reading the window back");
+    Image image;
+    impl_->finish_read(impl_->start_read(0, "reading the window back"), channels, "reading the window back", image);
+    return image;
 }
 
 }  // namespace render

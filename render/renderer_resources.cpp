@@ -139,9 +139,9 @@ void Renderer::Impl::destroy_resources() {
                               free_indices,  trail_vertices,   overlay_vertices};
     gl.DeleteBuffers(7, buffers);
     gl.DeleteTextures(1, &atlas);
-    for (const PendingRead& read : queued_reads) free_buffers.push_back(read.buffer);
+    for (const PendingRead& read : queued_reads) free_buffers.push_back(read.pack);
     queued_reads.clear();
-    if (!free_buffers.empty()) gl.DeleteBuffers(static_cast<GLsizei>(free_buffers.size()), free_buffers.data());
+    for (const PackBuffer& pack : free_buffers) gl.DeleteBuffers(1, &pack.buffer);
     free_buffers.clear();
     ensure_targets(0, 0, 0);
     ensure_shadow_map(0);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
@@ -316,6 +317,34 @@ TEST_F(RendererTest, QueuedReadBacksGiveTheFramesInOrder) {
     for (std::size_t i = 0; i < Renderer::kMaxQueuedReads; ++i) renderer_->queue_read_back();
     EXPECT_THROW(renderer_->queue_read_back(), RenderError) << "beyond kMaxQueuedReads";
     while (renderer_->queued_read_backs() > 0) renderer_->take_read_back();
+}
+
+// A video reads frame after frame into one image through the same pixel
+// buffers: each keeps its storage where it holds the next frame and grows
+// where it does not (a buffer kept at a small frame's size would fail a
+// larger read), and the image keeps its pixels' storage at the same size.
+TEST_F(RendererTest, ReadBacksIntoOneImageReuseItsStorage) {
+    const DrawList spheres = testing::sphere_field(50);
+    const RenderSettings small{.width = 160, .height = 120, .msaa_samples = 4};
+    const RenderSettings large{.width = 320, .height = 240, .msaa_samples = 4};
+    const Image a = renderer_->render(spheres, small);
+    const Image b = renderer_->render(spheres, large);
+
+    Image into;
+    for (const auto& [what, settings, expected] :
+         {std::tuple{"small", small, &a}, std::tuple{"large after small", large, &b},
+          std::tuple{"small after large", small, &a}, std::tuple{"small again", small, &a}}) {
+        renderer_->draw(spheres, settings);
+        renderer_->queue_read_back();
+        const std::uint8_t* before = into.pixels.data();
+        renderer_->take_read_back(into);
+        EXPECT_EQ(into.width, settings.width) << what;
+        EXPECT_EQ(into.height, settings.height) << what;
+        EXPECT_EQ(into.pixels, expected->pixels) << what;
+        if (std::string(what) == "small again") {
+            EXPECT_EQ(into.pixels.data(), before) << "the image's storage kept";
+        }
+    }
 }
 
 TEST_F(RendererTest, RefusesBadSizesAndSampleCounts) {
