@@ -361,19 +361,25 @@ namespace {
 // saves and restores only the registers it uses.
 [[gnu::noinline]] void velocity_verlet_arrays(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     const bool fresh = !s.memory_valid;
-    auto rule = [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
-        if (rebuild) a = accel(v);
-        const P3 v_predicted = v + h * a;
-        x = x + (h * v + (0.5 * h * h) * a);
-        v = v + (0.5 * h) * a;
-        a = accel(v_predicted);
-        v = v + (0.5 * h) * a;
-    };
-    if (fused_field_pass(dynamics, s, s.a, fresh ? 2 : 1, rule)) return;
-    ensure_acceleration(dynamics, s, t);
-    // A force that reads no velocity is given v as it is (kicked or not):
-    // no prediction to store.
+    // A force that reads no velocity (gravity alone, undamped springs) is
+    // given v as it is (kicked or not): no prediction to make or store.
     const bool predict = !dynamics.velocity_free();
+    auto rule_of = [h](auto predict_constant) {
+        return [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
+            if (rebuild) a = accel(v);
+            const P3 v_predicted = decltype(predict_constant)::value ? v + h * a : v;
+            x = x + (h * v + (0.5 * h * h) * a);
+            v = v + (0.5 * h) * a;
+            a = accel(decltype(predict_constant)::value ? v_predicted : v);
+            v = v + (0.5 * h) * a;
+        };
+    };
+    const int evaluations = fresh ? 2 : 1;
+    if (predict ? fused_field_pass(dynamics, s, s.a, evaluations, rule_of(std::true_type{}))
+                : fused_field_pass(dynamics, s, s.a, evaluations, rule_of(std::false_type{}))) {
+        return;
+    }
+    ensure_acceleration(dynamics, s, t);
     const Vec3Span v_predicted = predict ? s.scratch(0) : s.v;
     // With a second acceleration array (the World's), v is written once: the
     // drift alone, then both kicks in one pass after the force (the same bits).
