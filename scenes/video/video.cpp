@@ -11,6 +11,7 @@
 #include "sim/integrators.h"
 #include "sim/rigid.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -287,6 +288,11 @@ public:
     void start(int channels) {
         pipe_ = popen(ffmpeg_command(options_, channels, temp_, log_).c_str(), "w");
         if (pipe_ == nullptr) throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+        // A pipe of a megabyte where the system allows it (Linux: the
+        // default limit), not 64 KB: a 720p frame then goes in three writes
+        // that ffmpeg takes as it can, not forty-odd turns of the two
+        // processes. Where it is refused the frames go through all the same.
+        fcntl(fileno(pipe_), F_SETPIPE_SZ, 1 << 20);
         writer_ = std::thread([this] { write_frames(); });
     }
     // Frame k, whole: queued for the writer (a copy, into the storage of a
