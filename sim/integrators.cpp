@@ -362,12 +362,13 @@ namespace {
 [[gnu::noinline]] void velocity_verlet_arrays(Dynamics& dynamics, const StepArrays& s, double t, double h) {
     const bool fresh = !s.memory_valid;
     // A force that reads no velocity (gravity alone, undamped springs) is
-    // given v as it is (kicked or not): no prediction to make or store.
+    // given v as it is (kicked or not): no prediction to make or store (the
+    // fused rule's is then unused, and compiled away).
     const bool predict = !dynamics.velocity_free();
     auto rule_of = [h](auto predict_constant) {
         return [h](P3& x, P3& v, P3& a, const auto& accel, auto rebuild) {
             if (rebuild) a = accel(v);
-            const P3 v_predicted = decltype(predict_constant)::value ? v + h * a : v;
+            const P3 v_predicted = v + h * a;
             x = x + (h * v + (0.5 * h * h) * a);
             v = v + (0.5 * h) * a;
             a = accel(decltype(predict_constant)::value ? v_predicted : v);

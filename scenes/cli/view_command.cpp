@@ -54,7 +54,10 @@ int view(ViewArgs& a) {
     std::printf("view: %s, frame %d, t = %.4f s, state %s%s%s%s\n", scene.name.c_str(), v.frame, v.time,
                 v.state_hash.c_str(), v.exploded ? " (exploded)" : "", scales,
                 a.screenshot.empty() ? "" : (", screenshot " + a.screenshot).c_str());
-    if (a.options.verbose) print_parts(v.parts), print_spread(v.spread);
+    if (a.options.verbose) {
+        print_parts(v.parts);
+        print_spread(v.spread);
+    }
     const int replay = report_replay(scene, v.diverged_frame, v.frame);
     return v.exploded ? kExitFailed : replay;
 }
