@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <tuple>
 
 namespace scenes {
 namespace {
@@ -357,14 +358,25 @@ void judge_missing(SceneCheck& c, const SceneDef& scene, const Filmstrip& strip,
     }
 }
 
-// The golden was drawn by another renderer: another GL_RENDERER (llvmpipe's
-// names its LLVM and vector width) or GL_VERSION (Mesa's). The backend and
-// the thread count do not change pixels (EGL and OSMesa on one Mesa give the
-// same bytes). A golden without a fingerprint counts as this renderer's.
-bool drawn_by_another_renderer(const json& golden, const render::Fingerprint& f) {
-    if (!golden.contains("fingerprint") || !golden["fingerprint"].is_object()) return false;
+// How the golden's renderer differs from this one, empty where it does not:
+// another GL_RENDERER (llvmpipe's names its LLVM and vector width) or
+// GL_VERSION (Mesa's), each said as "GL_VERSION <the golden's> in the
+// golden, <this one's> here", so that a check on another machine says what
+// drew what. The backend and the thread count do not change pixels (EGL and
+// OSMesa on one Mesa give the same bytes). A golden without a fingerprint
+// counts as this renderer's.
+std::string another_renderer(const json& golden, const render::Fingerprint& f) {
+    if (!golden.contains("fingerprint") || !golden["fingerprint"].is_object()) return "";
     const json& g = golden["fingerprint"];
-    return g.value("renderer", f.renderer) != f.renderer || g.value("version", f.version) != f.version;
+    std::string differs;
+    for (const auto& [key, name, here] :
+         {std::tuple{"renderer", "GL_RENDERER", &f.renderer}, std::tuple{"version", "GL_VERSION", &f.version}}) {
+        const std::string there = g.value(key, *here);
+        if (there == *here) continue;
+        differs +=
+            (differs.empty() ? "" : "; ") + std::string(name) + " " + there + " in the golden, " + *here + " here";
+    }
+    return differs;
 }
 
 std::string share_text(double share) {
@@ -381,8 +393,9 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
                           const fs::path& golden_dir, const Evidence& evidence) {
     const render::Image expected = render::read_png(golden.png, 3);
     render::GoldenThresholds thresholds = thresholds_from(golden.previous, golden.json_file);
-    const bool another_renderer = drawn_by_another_renderer(golden.previous, fingerprint);
-    if (another_renderer) thresholds = render::for_another_renderer(thresholds);
+    const std::string renderer_differs = another_renderer(golden.previous, fingerprint);
+    const bool another = !renderer_differs.empty();
+    if (another) thresholds = render::for_another_renderer(thresholds);
     c.image = render::compare_golden(strip.image, expected, thresholds);
     const bool physics_same = c.first_hash_mismatch < 0 && c.changed_frame < 0;
     const bool pass = c.image->pass && physics_same;
@@ -394,8 +407,8 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
     } else {
         c.message = physics_changed(c, strip) + "; image " + c.image->summary;
     }
-    if (another_renderer) {
-        c.message += "; drawn by another renderer than the golden's (" + c.fingerprint_expected +
+    if (another) {
+        c.message += "; drawn by another renderer than the golden's (" + renderer_differs +
                      "), so judged with its tolerance: large errors on up to " + share_text(thresholds.large_share);
     } else if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
         c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;

@@ -256,6 +256,12 @@ TEST_F(CheckTest, AGoldenFromAnotherRendererIsJudgedWithItsTolerance) {
     r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
     EXPECT_EQ(r[0].status, SceneCheck::Status::pass) << r[0].message;
     EXPECT_NE(r[0].message.find("drawn by another renderer than the golden's"), std::string::npos) << r[0].message;
+    // What differs, the golden's and this renderer's (the renderer string is the same: not named)
+    EXPECT_NE(r[0].message.find("(GL_VERSION 4.5 (Core Profile) Mesa 99.0.0-test in the golden, " +
+                                context_->fingerprint().version + " here)"),
+              std::string::npos)
+        << r[0].message;
+    EXPECT_EQ(r[0].message.find("GL_RENDERER"), std::string::npos) << r[0].message;
     EXPECT_NE(r[0].message.find("up to 0.1%"), std::string::npos) << r[0].message;
 
     tamper(golden / "ballistic.png");  // 1600 px, 0.3%: over another renderer's tolerance too
