@@ -411,7 +411,8 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
         c.message += "; drawn by another renderer than the golden's (" + renderer_differs +
                      "), so judged with its tolerance: large errors on up to " + share_text(thresholds.large_share);
     } else if (!c.fingerprint_expected.empty() && c.fingerprint_expected != c.fingerprint_actual && !pass) {
-        c.message += "; the renderer differs from the golden's: " + c.fingerprint_expected;
+        c.message += "; the renderer differs from the golden's (" + c.fingerprint_expected + " in the golden, " +
+                     c.fingerprint_actual + " here)";
     }
     if (options.update == UpdateMode::all || (!pass && options.update == UpdateMode::changed)) {
         write_golden(scene, strip, fingerprint, golden_dir, golden.previous);

@@ -250,7 +250,21 @@ TEST_F(CheckTest, AGoldenFromAnotherRendererIsJudgedWithItsTolerance) {
     EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
     EXPECT_EQ(r[0].message.find("another renderer"), std::string::npos) << r[0].message;
 
+    // Another backend on the same Mesa draws the same pixels: the golden's
+    // tolerance, and a failure names both fingerprints.
     json j = read_json(golden / "ballistic.json");
+    const json drawn_here = j;
+    j["fingerprint"]["summary"] = "egl-test | " + context_->fingerprint().renderer;
+    write_json(golden / "ballistic.json", j);
+    r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
+    EXPECT_EQ(r[0].status, SceneCheck::Status::fail) << r[0].message;
+    EXPECT_NE(
+        r[0].message.find("the renderer differs from the golden's (egl-test | " + context_->fingerprint().renderer +
+                          " in the golden, " + context_->fingerprint().summary() + " here)"),
+        std::string::npos)
+        << r[0].message;
+    j = drawn_here;
+
     j["fingerprint"]["version"] = "4.5 (Core Profile) Mesa 99.0.0-test";
     write_json(golden / "ballistic.json", j);
     r = check_scenes({"ballistic"}, {}, options, *renderer_, context_->fingerprint());
