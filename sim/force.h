@@ -18,6 +18,7 @@
 #include <Eigen/SparseCore>
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace sim {
@@ -32,6 +33,11 @@ struct ForceInput {
     ConstVec3Span v;                   // velocity, m/s
     const double* mass = nullptr;      // (block) kg
     const double* inv_mass = nullptr;  // (block) 1/kg, 0 = pinned
+    // A stamp of inv_mass's contents: the same value promises the same
+    // contents as the last pass given it (ParticleForces::masses_changed
+    // moves it on), so that a pass may keep what it found in them (the
+    // spring plan's same_inv_mass). 0: no promise, every pass reads them.
+    std::uint64_t masses = 0;
 };
 
 // Force Jacobians of a block as sparse triplets over the block's 3n unknowns,

@@ -88,7 +88,7 @@ void ParticleForces::set_wide(bool wide) {
 }
 
 ForceInput ParticleForces::input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const {
-    return {t, first, x, v, mass_->data() + first, inv_mass_->data() + first};
+    return {t, first, x, v, mass_->data() + first, inv_mass_->data() + first, masses_};
 }
 
 namespace {

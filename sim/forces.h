@@ -93,6 +93,13 @@ public:
     // default); the same bits either way. Tests turn them off to compare.
     void set_wide(bool wide);
 
+    // The inverse masses may have changed: call after every write to them
+    // (the World does: edit_state, restore, a contained range pinned, an
+    // emitter's births). Passes may keep what they found in them until then
+    // (ForceInput::masses): one write without this call, and they would go
+    // on with the old masses.
+    void masses_changed() { ++masses_; }
+
 private:
     const SpringPair* spring_pair(std::size_t particles) const {
         return spring_pair_.spring != nullptr && particles == 2 && spring_time_ == nullptr ? &spring_pair_ : nullptr;
@@ -132,6 +139,7 @@ private:
     mutable std::vector<SpringPlan> plans_;
     const std::vector<double>* mass_;
     const std::vector<double>* inv_mass_;
+    std::uint64_t masses_ = 1;  // the stamp of inv_mass_'s contents (ForceInput::masses), never 0
     bool all_local_ = true;
     // No generator reads v: gravity of any kind, springs without dampers.
     bool velocity_free_ = true;

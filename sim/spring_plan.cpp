@@ -144,6 +144,9 @@ SpringPlan plan_springs(const Springs& springs, std::size_t particle_count) {
         r.direct = r.fan && r.kind == SpringPlan::Kind::linear;
         for (std::uint32_t t = 0; t < r.count && r.direct; ++t) r.direct = alone(r.j + t);
         for (std::uint32_t t = 0; t < r.count && r.direct; ++t) bead[r.j + t] = true;
+        const auto k0 = std::bit_cast<std::uint64_t>(plan.k[r.q]);
+        r.same_k = r.direct && std::all_of(plan.k.begin() + r.q, plan.k.begin() + r.q + r.count,
+                                           [k0](double k) { return std::bit_cast<std::uint64_t>(k) == k0; });
     }
     for (std::uint32_t p = 0; p < particle_count;) {
         if (bead[p]) {
@@ -284,19 +287,23 @@ template <bool kFromZero, bool kScale>
 // at once its sum, (f or +0) + (-1) g, times inv_m where kScale (block_sums'
 // operations on a block of degree 1). Linear springs need no direction: no
 // length of 0 to fall back on, so this may write f before the pass is sure
-// to finish.
-template <bool kFromZero, bool kScale>
+// to finish. kShared: every spring's k is k[0] and every bead's inverse mass
+// inv_m[j0] (Run::same_k, same_inv_mass), each read once: two streams fewer
+// in a loop bound by its streams, the same values so the same bits.
+template <bool kShared, bool kFromZero, bool kScale>
 [[gnu::always_inline]] inline void direct_fan(std::size_t count, std::size_t hub, std::size_t j0,
                                               const double* __restrict k, const double* __restrict x,
                                               const double* __restrict y, const double* __restrict z,
                                               const double* __restrict inv_m, double* __restrict fx,
                                               double* __restrict fy, double* __restrict fz) {
+    const double hx = x[hub], hy = y[hub], hz = z[hub];
     for (std::size_t t = 0; t < count; ++t) {
         const std::size_t j = j0 + t;
-        const double gx = k[t] * (x[j] - x[hub]), gy = k[t] * (y[j] - y[hub]), gz = k[t] * (z[j] - z[hub]);
+        const double kt = kShared ? k[0] : k[t], w = kShared ? inv_m[j0] : inv_m[j];
+        const double gx = kt * (x[j] - hx), gy = kt * (y[j] - hy), gz = kt * (z[j] - hz);
         const double sx = (kFromZero ? 0.0 : fx[j]) + -1.0 * gx, sy = (kFromZero ? 0.0 : fy[j]) + -1.0 * gy,
                      sz = (kFromZero ? 0.0 : fz[j]) + -1.0 * gz;
-        fx[j] = kScale ? sx * inv_m[j] : sx, fy[j] = kScale ? sy * inv_m[j] : sy, fz[j] = kScale ? sz * inv_m[j] : sz;
+        fx[j] = kScale ? sx * w : sx, fy[j] = kScale ? sy * w : sy, fz[j] = kScale ? sz * w : sz;
     }
 }
 
@@ -312,7 +319,7 @@ template <bool kFromZero, bool kScale>
 }
 
 // The kernels of one instruction set; pass 1's by path and kind, pass 2's
-// by finish.
+// by finish (a direct fan's also by whether its k and inverse mass are shared).
 struct SpringKernels {
     using Forces = std::size_t (*)(std::size_t, std::size_t, std::size_t, const std::uint32_t*, const std::uint32_t*,
                                    const double*, const double*, const double*, const double*, const double*,
@@ -322,25 +329,29 @@ struct SpringKernels {
                            double*);                                 // block_sums<kFromZero, kScale>
     using Unsummed = void (*)(std::size_t, const double*, double*);  // finish_unsummed<kFromZero, kScale>
     using Direct = void (*)(std::size_t, std::size_t, std::size_t, const double*, const double*, const double*,
-                            const double*, const double*, double*, double*, double*);  // direct_fan<kFromZero, kScale>
-    Forces forces[3][3];                                                               // [Path][SpringPlan::Kind]
-    Block blocks[2][2];                                                                // [kFromZero][kScale]
-    Unsummed unsummed[2][2];                                                           // [kFromZero][kScale]
-    Direct direct[2][2];                                                               // [kFromZero][kScale]
+                            const double*, const double*, double*, double*,
+                            double*);  // direct_fan<kShared, kFromZero, kScale>
+    Forces forces[3][3];               // [Path][SpringPlan::Kind]
+    Block blocks[2][2];                // [kFromZero][kScale]
+    Unsummed unsummed[2][2];           // [kFromZero][kScale]
+    Direct direct[2][2][2];            // [kShared][kFromZero][kScale]
 
     Forces pass1(Path path, SpringPlan::Kind kind) const {
         return forces[static_cast<int>(path)][static_cast<int>(kind)];
     }
     Block block(SpringFinish finish) const { return blocks[finish.from_zero][finish.to_acceleration]; }
     Unsummed finish(SpringFinish finish) const { return unsummed[finish.from_zero][finish.to_acceleration]; }
-    Direct fan(SpringFinish finish) const { return direct[finish.from_zero][finish.to_acceleration]; }
+    Direct fan(bool shared, SpringFinish finish) const {
+        return direct[shared][finish.from_zero][finish.to_acceleration];
+    }
 };
 
 // Every kernel of one instruction set, in SpringKernels' order:
-// F<kPath, kKind>::call, and B, U and D<kFromZero, kScale>::call (block_sums,
-// finish_unsummed, direct_fan) are that set's instantiations.
+// F<kPath, kKind>::call, B and U<kFromZero, kScale>::call (block_sums,
+// finish_unsummed) and D<kShared, kFromZero, kScale>::call (direct_fan) are
+// that set's instantiations.
 template <template <Path, SpringPlan::Kind> class F, template <bool, bool> class B, template <bool, bool> class U,
-          template <bool, bool> class D>
+          template <bool, bool, bool> class D>
 constexpr SpringKernels kernels_of() {
     using K = SpringPlan::Kind;
     return {{{&F<Path::run, K::stretch>::call, &F<Path::run, K::mixed>::call, &F<Path::run, K::linear>::call},
@@ -348,7 +359,10 @@ constexpr SpringKernels kernels_of() {
              {&F<Path::loose, K::stretch>::call, &F<Path::loose, K::mixed>::call, &F<Path::loose, K::linear>::call}},
             {{&B<false, false>::call, &B<false, true>::call}, {&B<true, false>::call, &B<true, true>::call}},
             {{&U<false, false>::call, &U<false, true>::call}, {&U<true, false>::call, &U<true, true>::call}},
-            {{&D<false, false>::call, &D<false, true>::call}, {&D<true, false>::call, &D<true, true>::call}}};
+            {{{&D<false, false, false>::call, &D<false, false, true>::call},
+              {&D<false, true, false>::call, &D<false, true, true>::call}},
+             {{&D<true, false, false>::call, &D<true, false, true>::call},
+              {&D<true, true, false>::call, &D<true, true, true>::call}}}};
 }
 
 template <Path kPath, SpringPlan::Kind kKind>
@@ -372,11 +386,11 @@ struct UnsummedBase {
         finish_unsummed<kFromZero, kScale>(a...);
     }
 };
-template <bool kFromZero, bool kScale>
+template <bool kShared, bool kFromZero, bool kScale>
 struct DirectBase {
     template <typename... A>
     static void call(A... a) {
-        direct_fan<kFromZero, kScale>(a...);
+        direct_fan<kShared, kFromZero, kScale>(a...);
     }
 };
 constexpr SpringKernels kBaseKernels = kernels_of<ForcesBase, BlockBase, UnsummedBase, DirectBase>();
@@ -403,11 +417,11 @@ struct UnsummedAvx2 {
         finish_unsummed<kFromZero, kScale>(a...);
     }
 };
-template <bool kFromZero, bool kScale>
+template <bool kShared, bool kFromZero, bool kScale>
 struct DirectAvx2 {
     template <typename... A>
     [[gnu::target("avx2")]] static void call(A... a) {
-        direct_fan<kFromZero, kScale>(a...);
+        direct_fan<kShared, kFromZero, kScale>(a...);
     }
 };
 constexpr SpringKernels kWideKernels = kernels_of<ForcesAvx2, BlockAvx2, UnsummedAvx2, DirectAvx2>();
@@ -427,6 +441,20 @@ void reference_pass(const Springs& springs, const SpringKernels& kernels, const 
     if (finish.to_acceleration) {
         for (int axis = 0; axis < 3; ++axis) kernels.finish({.to_acceleration = true})(f.n, in.inv_mass, f.c[axis]);
     }
+}
+
+// Each direct fan's same_inv_mass, read again where in.masses is not the
+// stamp they were read at (none, where it is 0: it promises nothing).
+void read_bead_masses(SpringPlan& plan, const ForceInput& in) {
+    if (in.masses == plan.masses) return;
+    for (SpringPlan::Run& r : plan.runs) {
+        r.same_inv_mass = false;
+        if (!r.direct || in.masses == 0) continue;
+        const double* w = in.inv_mass + r.j;
+        const auto w0 = std::bit_cast<std::uint64_t>(w[0]);
+        r.same_inv_mass = std::all_of(w, w + r.count, [w0](double b) { return std::bit_cast<std::uint64_t>(b) == w0; });
+    }
+    plan.masses = in.masses;
 }
 
 // The fast pass itself (accumulate's, below: out of line, so that the few
@@ -482,9 +510,11 @@ void reference_pass(const Springs& springs, const SpringKernels& kernels, const 
     // The direct fans' beads: a block of degree 1 each, on g, or straight
     // from the positions.
     constexpr double kBeadSign = -1.0;  // each bead is its spring's second particle
+    read_bead_masses(plan, in);
     for (const SpringPlan::Run& r : plan.runs) {
         if (straight(r)) {
-            kernels.fan(finish)(r.count, r.i, r.j, &plan.k[r.q], x, y, z, in.inv_mass, f.c[0], f.c[1], f.c[2]);
+            const bool shared = r.same_k && (r.same_inv_mass || !finish.to_acceleration);
+            kernels.fan(shared, finish)(r.count, r.i, r.j, &plan.k[r.q], x, y, z, in.inv_mass, f.c[0], f.c[1], f.c[2]);
         } else if (r.direct) {
             for (int axis = 0; axis < 3; ++axis) {
                 block(r.count, 1, &r.q, &kBeadSign, g[axis], in.inv_mass + r.j, f.c[axis] + r.j);

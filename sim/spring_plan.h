@@ -46,6 +46,12 @@ struct SpringPlan {
         // finishes each bead's sum as it computes its spring's force,
         // without the scratch g (the same operations: a block of degree 1).
         bool direct = false;
+        // A direct fan whose springs all have the same stiffness (the same
+        // bits; a fact of the list, set with the plan), and whose beads all
+        // had the same inverse mass when last looked at (see masses below):
+        // the pass reads each once, not once a bead.
+        bool same_k = false;
+        bool same_inv_mass = false;
     };
     struct Block {
         std::uint32_t p = 0;       // first particle of the block
@@ -74,6 +80,7 @@ struct SpringPlan {
     std::vector<double> sign;  // (2 x springs) +1 at a spring's first particle, -1 at its second
     bool few = false;          // fewer springs than a run: the reference loop's (accumulate takes it)
     bool wide = false;         // the AVX2 build of the passes (the same bits), where the CPU has it
+    std::uint64_t masses = 0;  // ForceInput::masses when the runs' same_inv_mass were read (0: never)
     std::vector<double> gx, gy, gz;  // (springs) scratch: force on each spring's first particle, N
 };
 SpringPlan plan_springs(const Springs& springs, std::size_t particle_count);

@@ -140,6 +140,7 @@ void World::set_watchdog(const WatchdogLimits& limits) {
 ParticleState& World::edit_state() {
     memory_valid_ = false;
     prepared_.info = nullptr;  // the caller may move arrays
+    forces_.masses_changed();  // and write masses
     return state_;
 }
 
@@ -233,6 +234,7 @@ void World::restore(const Snapshot& snapshot) {
     }
     state_ = snapshot.state;
     prepared_.info = nullptr;
+    forces_.masses_changed();
     memory_a_ = snapshot.memory_a;
     memory_x_prev_ = snapshot.memory_x_prev;
     memory_valid_ = snapshot.memory_valid;
@@ -367,7 +369,12 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     for (int i = 0; i < settings.substeps && !verdict_.exploded(); ++i) {
         if (systems_.emitters) {
             for (const Emitter& emitter : model_.emitters) {
-                if (emit(emitter, state_.t, state_.t + h, state_) > 0) memory_valid_ = false;
+                if (emit(emitter, state_.t, state_.t + h, state_) > 0) {
+                    memory_valid_ = false;
+                    // (Births only unpin, so a fan found of one mass stays so;
+                    // said anyway, so that every write of a mass is.)
+                    forces_.masses_changed();
+                }
             }
             laps.lap(times_.emitters);
         }
@@ -464,6 +471,7 @@ void World::watch_closely() {
         }
         memory_valid_ = false;
         prepared_.info = nullptr;  // the blocks now hold pinned particles
+        forces_.masses_changed();
         verdict_ = {};
     }
 }

@@ -345,6 +345,79 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
     }
 }
 
+TEST(Spring, ADirectFanReadsASharedStiffnessAndInverseMassOnce) {
+    // The report's batch: beads of one mass, each on a spring of one
+    // stiffness to a pinned hook. The plan sees the shared k; the pass sees
+    // the shared inverse mass while ForceInput::masses stays the stamp it
+    // looked at (read again when the stamp moves; never kept at stamp 0).
+    // Every finish gives the separate passes' bits (zero, the reference
+    // loop, M⁻¹; the hook's sum left out), the beads' masses shared or not.
+    const std::size_t n = 41;
+    Springs springs;
+    for (std::uint32_t b = 1; b < n; ++b) springs.list.push_back({0, b, 0.0, 2.5, 0.0});
+    Fixture fx(n);
+    std::fill(fx.mass.begin(), fx.mass.end(), 3.0);
+    std::fill(fx.inv_mass.begin(), fx.inv_mass.end(), 1.0 / 3.0);
+    fx.inv_mass[0] = 0.0;  // the hook is pinned
+    Vec3Array weight(n);   // a force from before
+    for (std::size_t i = 0; i < n; ++i) weight.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
+    auto expected = [&](const SpringFinish& finish) {
+        Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
+        Vec3Array summed = f;
+        accumulate(springs, fx.input(), summed.span());
+        for (std::size_t i = 0; i < n; ++i) {
+            Vec3 value = i == 0 ? f.get(i) : summed.get(i);  // (the hook's sum left out)
+            if (finish.to_acceleration) {
+                for (int k = 0; k < 3; ++k) value[k] *= fx.inv_mass[i];
+            }
+            f.set(i, value);
+        }
+        return f;
+    };
+    auto pass = [&](SpringPlan& plan, std::uint64_t masses, const SpringFinish& finish) {
+        Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
+        if (finish.from_zero) {  // what it holds must not matter
+            for (std::size_t i = 0; i < n; ++i) f.set(i, Vec3::Constant(std::nan("")));
+        }
+        ForceInput in = fx.input();
+        in.masses = masses;
+        EXPECT_TRUE(accumulate(springs, plan, in, f.span(), true, finish)) << "the fast pass ran";
+        return f;
+    };
+    for (const bool wide : {false, true}) {
+        if (wide && !avx2_available()) continue;
+        SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
+        SpringPlan plan = plan_springs(springs, n);
+        plan.wide = wide;
+        ASSERT_EQ(plan.runs.size(), 1u);
+        const SpringPlan::Run& fan = plan.runs[0];
+        ASSERT_TRUE(fan.direct);
+        EXPECT_TRUE(fan.same_k);
+        for (const SpringFinish finish : {SpringFinish{false, false}, SpringFinish{false, true},
+                                          SpringFinish{true, false}, SpringFinish{true, true}}) {
+            SCOPED_TRACE(testing::Message()
+                         << "from_zero " << finish.from_zero << ", to_acceleration " << finish.to_acceleration);
+            fx.inv_mass[17] = 1.0 / 3.0;
+            EXPECT_TRUE(same_bits(pass(plan, 0, finish), expected(finish))) << "stamp 0";
+            EXPECT_FALSE(fan.same_inv_mass) << "stamp 0 promises nothing";
+            EXPECT_TRUE(same_bits(pass(plan, 7, finish), expected(finish))) << "one mass";
+            EXPECT_TRUE(fan.same_inv_mass);
+            fx.inv_mass[17] = 0.25;  // a bead's mass written, and the stamp moved on
+            EXPECT_TRUE(same_bits(pass(plan, 8, finish), expected(finish))) << "bead 17's mass its own";
+            EXPECT_FALSE(fan.same_inv_mass);
+            fx.inv_mass[17] = 1.0 / 3.0;
+            EXPECT_TRUE(same_bits(pass(plan, 9, finish), expected(finish))) << "one mass again";
+            EXPECT_TRUE(fan.same_inv_mass);
+        }
+    }
+    // One spring's stiffness its own: not shared, the same bits.
+    springs.list[20].k = 2.5000000000000004;
+    SpringPlan plan = plan_springs(springs, n);
+    ASSERT_EQ(plan.runs.size(), 1u);
+    EXPECT_FALSE(plan.runs[0].same_k);
+    EXPECT_TRUE(same_bits(pass(plan, 1, {true, true}), expected({true, true})));
+}
+
 // Two particles and one generator between them (a bead on its anchor, a
 // planet around a pinned sun) take their own path in acceleration(), the
 // sums in registers (sim/pair_forces.h); two springs on them, the

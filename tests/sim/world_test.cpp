@@ -13,6 +13,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <string_view>
@@ -383,6 +384,92 @@ TEST(EditState, ArraysReplacedWholeAreTheOnesStepped) {
         EXPECT_EQ(edited.state().v.get(1), fresh.state().v.get(1)) << info.name;
     }
 }
+// A hook (pinned, at the origin) and `beads` particles of 1 kg, each on a
+// spring of 1 N/m and rest length 0 to it: the report's batch, whose spring
+// pass reads the shared stiffness and inverse mass once (sim/spring_plan.h).
+ParticleModel beads_on_a_hook(std::uint32_t beads) {
+    ParticleModel model;
+    model.particles.push_back({Vec3::Zero(), Vec3::Zero(), 1.0, true});
+    Springs springs;
+    for (std::uint32_t b = 1; b <= beads; ++b) {
+        const double s = b;
+        model.particles.push_back({Vec3(std::cos(s), std::sin(s), 0.01 * s), Vec3(0.0, 0.5, 0.0), 1.0, false});
+        springs.list.push_back({0, b, 0.0, 1.0, 0.0});
+    }
+    model.forces.push_back(std::move(springs));
+    return model;
+}
+
+// A World started from `state` (its positions, velocities and masses) of beads_on_a_hook.
+std::unique_ptr<World> started_from(const ParticleState& state) {
+    ParticleModel model = beads_on_a_hook(static_cast<std::uint32_t>(state.size() - 1));
+    for (std::size_t i = 0; i < state.size(); ++i) {
+        model.particles[i] = {state.x.get(i), state.v.get(i), state.mass[i], state.inv_mass[i] == 0.0};
+    }
+    return std::make_unique<World>(std::move(model));
+}
+
+// Positions and velocities, bit for bit.
+bool same_motion(const ParticleState& a, const ParticleState& b) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+            if (std::bit_cast<std::uint64_t>(a.x.get(i)[k]) != std::bit_cast<std::uint64_t>(b.x.get(i)[k]) ||
+                std::bit_cast<std::uint64_t>(a.v.get(i)[k]) != std::bit_cast<std::uint64_t>(b.v.get(i)[k])) {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+TEST(Masses, EveryWriteReachesTheSpringPass) {
+    // The spring pass keeps what it found in the inverse masses (every bead
+    // of one mass) until the World says they changed. After each write of
+    // a bead's mass (edit_state, restore) the run goes on as a World built
+    // with the new masses, bit for bit; a contained range (pinned) stays
+    // where it was frozen.
+    const StepSettings step{Integrator::velocity_verlet, 0.01, 1};
+    {
+        SCOPED_TRACE("edit_state");
+        World world(beads_on_a_hook(64));
+        for (int i = 0; i < 10; ++i) world.step(step);
+        ParticleState& state = world.edit_state();
+        state.mass[5] = 4.0, state.inv_mass[5] = 0.25;
+        const auto fresh = started_from(world.state());
+        for (int i = 0; i < 50; ++i) world.step(step), fresh->step(step);
+        EXPECT_TRUE(same_motion(world.state(), fresh->state()));
+    }
+    {
+        SCOPED_TRACE("restore");
+        World world(beads_on_a_hook(64));
+        world.edit_state().mass[5] = 4.0, world.edit_state().inv_mass[5] = 0.25;
+        const World::Snapshot saved = world.snapshot();
+        world.edit_state().mass[5] = 1.0, world.edit_state().inv_mass[5] = 1.0;
+        for (int i = 0; i < 10; ++i) world.step(step);
+        world.restore(saved);
+        const auto fresh = started_from(saved.state);
+        for (int i = 0; i < 50; ++i) world.step(step), fresh->step(step);
+        EXPECT_TRUE(same_motion(world.state(), fresh->state()));
+    }
+    {
+        SCOPED_TRACE("a contained range");
+        ParticleModel model = beads_on_a_hook(64);
+        model.particles[3].velocity = Vec3(600.0, 0.0, 0.0);  // over the watchdog's 500 m/s
+        const Vec3 start4 = model.particles[4].position;
+        World world(std::move(model));
+        WatchdogLimits limits;
+        limits.contain.push_back({"bead 3", 3, 1});
+        world.set_watchdog(limits);
+        world.step(step);
+        ASSERT_EQ(world.contained().size(), 1u);
+        const Vec3 frozen = world.state().x.get(3);
+        for (int i = 0; i < 50; ++i) world.step(step);
+        EXPECT_EQ(world.state().x.get(3), frozen) << "pinned, bit-exact";
+        EXPECT_EQ(world.state().v.get(3), Vec3::Zero());
+        EXPECT_NE(world.state().x.get(4), start4) << "the others move";
+    }
+}
+
 // Rewind: snapshot mid-run (integrator memory warm), run on, restore, run
 // the same frames again. Both runs, and a run that never rewound, must agree
 // to the bit, for every method (position Verlet's x_prev and leapfrog's
