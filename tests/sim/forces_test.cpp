@@ -276,6 +276,26 @@ TEST(Spring, FastPassGivesTheReferenceLoopsBitsWithZeroRestSprings) {
     }
 }
 
+// What the separate passes ParticleForces ran before leave in f: the zero
+// pass (finish.from_zero) or `before`, the reference loop, M⁻¹
+// (finish.to_acceleration); where skip_pinned, a pinned particle's sum left
+// out (f as it came, times its inverse mass 0 for an acceleration).
+Vec3Array separate_passes(const Springs& springs, const Fixture& fx, const Vec3Array& before,
+                          const SpringFinish& finish, bool skip_pinned) {
+    const std::size_t n = fx.x.size();
+    Vec3Array f = finish.from_zero ? Vec3Array(n) : before;
+    Vec3Array summed = f;
+    accumulate(springs, fx.input(), summed.span());
+    for (std::size_t i = 0; i < n; ++i) {
+        Vec3 value = skip_pinned && fx.inv_mass[i] == 0.0 ? f.get(i) : summed.get(i);
+        if (finish.to_acceleration) {
+            for (int k = 0; k < 3; ++k) value[k] *= fx.inv_mass[i];
+        }
+        f.set(i, value);
+    }
+    return f;
+}
+
 TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
     // The pass as the last generator of an acceleration: it starts from zero
     // (no generator before) or from a force, and multiplies by the inverse
@@ -301,17 +321,7 @@ TEST(Spring, FastPassFinishesAnAccelerationWithTheSeparatePassesBits) {
     Vec3Array weight(n);  // a force from before (gravity, say)
     for (std::size_t i = 0; i < n; ++i) weight.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
     auto expected = [&](const SpringFinish& finish, bool skip_pinned) {
-        Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
-        Vec3Array summed = f;
-        accumulate(springs, fx.input(), summed.span());
-        for (std::size_t i = 0; i < n; ++i) {
-            Vec3 value = skip_pinned && fx.inv_mass[i] == 0.0 ? f.get(i) : summed.get(i);
-            if (finish.to_acceleration) {
-                for (int k = 0; k < 3; ++k) value[k] *= fx.inv_mass[i];
-            }
-            f.set(i, value);
-        }
-        return f;
+        return separate_passes(springs, fx, weight, finish, skip_pinned);
     };
     for (const bool wide : {false, true}) {
         if (wide && !avx2_available()) continue;
@@ -361,19 +371,7 @@ TEST(Spring, ADirectFanReadsASharedStiffnessAndInverseMassOnce) {
     fx.inv_mass[0] = 0.0;  // the hook is pinned
     Vec3Array weight(n);   // a force from before
     for (std::size_t i = 0; i < n; ++i) weight.set(i, Vec3(0.0, -9.81 * fx.mass[i], 0.0));
-    auto expected = [&](const SpringFinish& finish) {
-        Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
-        Vec3Array summed = f;
-        accumulate(springs, fx.input(), summed.span());
-        for (std::size_t i = 0; i < n; ++i) {
-            Vec3 value = i == 0 ? f.get(i) : summed.get(i);  // (the hook's sum left out)
-            if (finish.to_acceleration) {
-                for (int k = 0; k < 3; ++k) value[k] *= fx.inv_mass[i];
-            }
-            f.set(i, value);
-        }
-        return f;
-    };
+    auto expected = [&](const SpringFinish& finish) { return separate_passes(springs, fx, weight, finish, true); };
     auto pass = [&](SpringPlan& plan, std::uint64_t masses, const SpringFinish& finish) {
         Vec3Array f = finish.from_zero ? Vec3Array(n) : weight;
         if (finish.from_zero) {  // what it holds must not matter
