@@ -102,7 +102,10 @@ public:
     // at the state between substeps (`check` hashes it to say which substep
     // of a frame first differs). Empty: none (the default). It must not
     // step or edit the World.
-    void set_substep_observer(std::function<void(int substep)> observer) { substep_observer_ = std::move(observer); }
+    void set_substep_observer(std::function<void(int substep)> observer) {
+        substep_observer_ = std::move(observer);
+        refresh_bare();
+    }
 
     // The watchdog (on by default with WatchdogLimits{}). Setting limits
     // validates them (InputError) and takes the current energy as E0.
@@ -307,6 +310,12 @@ private:
     Verdict verdict_;
     std::vector<Contained> contained_;
     std::function<void(int)> substep_observer_;  // set_substep_observer
+    // A substep is the forces, the integrator and the watchdog, nothing else:
+    // no emitter, constraint, collision, plasticity, rigid body, contained
+    // range, particle drag or substep observer. Kept by refresh_bare, which
+    // everything that sets one of those calls.
+    bool bare_ = false;
+    void refresh_bare();
     std::uint64_t frames_ = 0;
     SystemTimes times_;
     double timer_cost_ = 0.0;        // s, what the clocks of the sampled frames cost
