@@ -17,6 +17,8 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -76,6 +78,28 @@ TEST(Substeps, AreStepsOfDtOverSubsteps) {
     }
     EXPECT_EQ(a.state().x.flat(), b.state().x.flat()) << "bit-identical";
     EXPECT_EQ(a.steps(), 200u);
+}
+
+TEST(Substeps, TheObserverSeesEachSubstepOnceItHasRun) {
+    // One substep or three, each seen once, in order, its time already
+    // advanced; no longer once the observer is taken away. (A Kepler orbit
+    // has no other stage: the World would take its bare step without the
+    // observer.)
+    for (const int substeps : {1, 3}) {
+        SCOPED_TRACE(testing::Message() << substeps << " substeps");
+        World world(kepler_model(0.5));
+        std::vector<std::pair<int, double>> seen;
+        world.set_substep_observer([&](int i) { seen.emplace_back(i, world.state().t); });
+        world.step({Integrator::rk4, 0.03, substeps});
+        ASSERT_EQ(seen.size(), static_cast<std::size_t>(substeps));
+        for (int i = 0; i < substeps; ++i) {
+            EXPECT_EQ(seen[i].first, i);
+            EXPECT_NEAR(seen[i].second, 0.03 * (i + 1) / substeps, 1e-15) << "s";
+        }
+        world.set_substep_observer({});
+        world.step({Integrator::rk4, 0.03, substeps});
+        EXPECT_EQ(seen.size(), static_cast<std::size_t>(substeps)) << "taken away";
+    }
 }
 
 // Many particles under gravity and drag only: every force is local, so the
