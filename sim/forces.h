@@ -61,8 +61,7 @@ public:
                              const Vec3Span& f, Jacobians& jac) override;
     const double* mass() const override { return mass_->data(); }
     const double* inv_mass() const override { return inv_mass_->data(); }
-    // One spring on two particles, with the field (outside the frames the
-    // per-system clocks sample, as few_springs), or Newton's gravity alone
+    // One spring on two particles, with the field, or Newton's gravity alone
     // between them, with the field.
     PairPath pair_path(std::size_t particles) const override {
         return {spring_pair(particles), particles == 2 && pair_gravity_.gravity != nullptr ? &pair_gravity_ : nullptr,
@@ -82,7 +81,9 @@ public:
 
     // The spring generators' passes, timed while `time` is set (the World's
     // sampled frames; nullptr: not timed, no clock read): wall seconds and
-    // the clock reads that took them.
+    // the clock reads that took them. The few springs' and the pairs' paths
+    // are no pass: a sampled frame takes them too (so that it times the step
+    // that runs), and their springs' time stays in the caller's.
     struct SpringTime {
         double seconds = 0.0;  // s, the reads' own cost included
         int reads = 0;
@@ -102,12 +103,11 @@ public:
 
 private:
     const SpringPair* spring_pair(std::size_t particles) const {
-        return spring_pair_.spring != nullptr && particles == 2 && spring_time_ == nullptr ? &spring_pair_ : nullptr;
+        return spring_pair_.spring != nullptr && particles == 2 ? &spring_pair_ : nullptr;
     }
-    // few_ where the block of `particles` is small enough (and the spring
-    // clock off), else nullptr.
+    // few_ where the block of `particles` is small enough, else nullptr.
     const FewSprings* few_springs(std::size_t particles) const {
-        return few_.springs != nullptr && particles <= kFewSpringParticles && spring_time_ == nullptr ? &few_ : nullptr;
+        return few_.springs != nullptr && particles <= kFewSpringParticles ? &few_ : nullptr;
     }
     ForceInput input(double t, std::size_t first, const ConstVec3Span& x, const ConstVec3Span& v) const;
     // acceleration() on every path but the few springs' (out of line, so that

@@ -12,6 +12,7 @@
 #include "sim/rigid.h"
 #include "sim/watchdog.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -129,14 +130,18 @@ public:
 
     // Wall time per system, measured on a sample of frames, not on every
     // one: a clock read costs about 25 ns, as much as a whole step of a
-    // one-particle problem. The first frame is timed, then as often as
-    // keeps the clocks' own cost under 1% of the time measured
-    // (every frame of a 10 µs step, one in about 200 of a 50 ns one). A
-    // sampled frame reads the clock between its stages, and the cost of one
-    // read (calibrated once) is taken off each interval. Divide by
-    // sampled_steps, never by steps(): ms_per_step() does.
+    // one-particle problem. The second frame is timed (next_sample_), then
+    // as often as keeps the clocks' own cost under 1% of the frames' time, as the
+    // untimed frames between two sampled ones measure it (every frame of a
+    // 10 µs step, one in about 500 of a 20 ns one). A sampled frame runs
+    // the step every frame runs and reads the clock between its stages;
+    // the cost of one read (calibrated once) is taken off each interval.
+    // Divide by sampled_steps, never by steps(): ms_per_step() does.
     // Each system's time in the sampled frames (see step()): the entries
     // partition the step, with the glue between them only in `total`.
+    // Springs evaluated inline (a list on at most kFewSpringParticles
+    // particles: the few springs' and the pairs' paths) are no pass of
+    // their own: their time is the particles', and `springs` stays 0.
     struct SystemTimes {
         double particles = 0.0;    // s, integration and the force evaluations (springs apart), and the
                                    // watchdog's per-particle rules when they run inside it (no
@@ -234,9 +239,6 @@ private:
     template <class Stopwatch>
     void run_substeps(const StepSettings& settings, Stopwatch& laps);
     void plan_next_sample();  // after a sampled frame: when to sample again
-    // Times the spring passes while `time` is set (forces_.time_springs),
-    // with the prepared pair to match.
-    void time_springs(ParticleForces::SpringTime* time);
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     inline void step_once(Integrator integrator, double h, bool watch_blocks);  // defined in world.cpp only
@@ -318,8 +320,22 @@ private:
     void refresh_bare();
     std::uint64_t frames_ = 0;
     SystemTimes times_;
-    double timer_cost_ = 0.0;        // s, what the clocks of the sampled frames cost
-    std::uint64_t next_sample_ = 1;  // the frame (frames_ after ++) to time next
+    double timer_cost_ = 0.0;  // s, what the clocks of the sampled frames cost
+    // The frame (frames_ after ++) to time next. Not the first: it pays once
+    // for what the later ones reuse (the integrator's arrays prepared, the
+    // code and data brought into cache): 2.7 µs against 20-50 ns for a bead
+    // on its spring, which a short run's figures would be mostly made of.
+    std::uint64_t next_sample_ = 2;
+    // The frames between two sampled ones, untimed: their wall time, s (the
+    // caller's own work between steps included), and how many. What a frame
+    // costs when no clock reads it, for plan_next_sample.
+    struct Unsampled {
+        double seconds = 0.0;
+        std::uint64_t frames = 0;
+        std::chrono::steady_clock::time_point since{};  // the last sampled frame's end
+        std::uint64_t since_frame = 0;                  // its number; 0: none yet (or a restore since)
+    };
+    Unsampled unsampled_;
     std::optional<Drag> drag_;
 };
 

@@ -132,12 +132,16 @@ double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limi
 // ms per step of each system the World runs (docs/design.md: one entry per
 // system in `systems`, and the total), measured on the sampled frames
 // (World::SystemTimes); the entries partition the step, the total is the
-// whole step with the glue between systems.
+// whole step with the glue between systems. null where no frame was sampled
+// (a run of one frame: the first is not timed).
 nlohmann::json ms_per_system(const sim::World& world) {
     const auto& times = world.times();
+    auto ms = [&](double seconds) {
+        return times.sampled_frames == 0 ? nlohmann::json(nullptr) : nlohmann::json(times.ms_per_step(seconds));
+    };
     nlohmann::json per_system = nlohmann::json::object();
-    for (const std::string& system : world.systems().names()) per_system[system] = times.ms_per_step(times.of(system));
-    per_system["total"] = times.ms_per_step(times.total);
+    for (const std::string& system : world.systems().names()) per_system[system] = ms(times.of(system));
+    per_system["total"] = ms(times.total);
     return per_system;
 }
 
@@ -222,15 +226,19 @@ void print_text(const Summary& s) {
                                              : scene.particle_names[g.particle];
         std::printf("  accuracy  %s is %.3e m from the %s closed form\n", who.c_str(), *s.error, g.solution.c_str());
     }
-    std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(),
-                s.ms_per_step["total"].get<double>());
-    bool first = true;
-    for (const auto& [system, v] : s.ms_per_step.items()) {
-        if (system == "total") continue;
-        std::printf("%s%s %.3g", first ? "" : ", ", system.c_str(), v.get<double>());
-        first = false;
+    if (s.ms_per_step["total"].is_null()) {
+        std::printf("  cost      %.0f force evaluations (one frame: not timed)\n", world.force_evaluations());
+    } else {
+        std::printf("  cost      %.0f force evaluations, %.3g ms per step (", world.force_evaluations(),
+                    s.ms_per_step["total"].get<double>());
+        bool first = true;
+        for (const auto& [system, v] : s.ms_per_step.items()) {
+            if (system == "total") continue;
+            std::printf("%s%s %.3g", first ? "" : ", ", system.c_str(), v.get<double>());
+            first = false;
+        }
+        std::printf(")\n");
     }
-    std::printf(")\n");
     for (const auto& c : world.contained()) {
         std::printf("  contained %s (frozen; the run went on)\n",
                     c.verdict.message(scene.name + ": " + c.name).c_str());
@@ -286,9 +294,10 @@ Command add_run(CLI::App& app) {
                     "replay it, reporting the first frame whose state differs (exit 1)");
     run->add_flag("--json", args->json,
                   "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
-                  "of frames (the first, then enough to keep the clocks under 1% of the step; a step "
-                  "under a microsecond reads longer than it runs, the clock reads stopping its overlap with the "
-                  "next: bench_sim times those)");
+                  "of frames (the second, then enough to keep the clocks under 1% of the frames' time; null "
+                  "for a run of one frame; springs on at most 4 particles are evaluated inside the particles' "
+                  "step and counted there; a step under a microsecond reads longer than it runs, the clock reads "
+                  "stopping its overlap with the next: bench_sim times those)");
     return {run, [args] { return run_scene(*args); }};
 }
 

@@ -412,8 +412,9 @@ const std::pair<const char*, StepFn> kPairMethods[] = {{"RK4", rk4},
 // RK4 on a bead and its anchor (one spring, a field) leaves an anchor at
 // rest out of its arithmetic; velocity Verlet, leapfrog and the Eulers step
 // the pair inline too.
-// Against the general few-particle path (a World's sampled frames take it:
-// the spring pass timed on its own), the same bits: the anchor at rest,
+// Against the general path (the same list and a second, empty one: the few
+// springs' and the pairs' paths take one list alone), the same bits: the
+// anchor at rest,
 // moving (pinned particles' velocities are 0 in a World, but the step does
 // not assume it) or at -0 on two axes, first or second, the spring listed
 // either way, over 200 steps; and on a step that overflows (a spring of
@@ -440,9 +441,9 @@ TEST(FewParticles, AnAnchorAtRestGivesTheGeneralPathsBits) {
                     springs.list = {{anchor, bead, 0.3, overflow ? 1e300 : 4.0, 0.2}};
                     if (reversed) std::swap(springs.list[0].i, springs.list[0].j);
                     const std::vector<ForceDef> defs = {UniformGravity{}, LinearDrag{0.05}, springs};
-                    ParticleForces pair(defs, mass, inv_mass), general(defs, mass, inv_mass);
-                    ParticleForces::SpringTime timed;
-                    general.time_springs(&timed);
+                    std::vector<ForceDef> two_lists = defs;
+                    two_lists.push_back(Springs{});
+                    ParticleForces pair(defs, mass, inv_mass), general(two_lists, mass, inv_mass);
                     ASSERT_NE(pair.pair_path(2).spring, nullptr);
                     ASSERT_EQ(general.pair_path(2).spring, nullptr);
                     for (const auto& [name, method] : kPairMethods) {

@@ -4,7 +4,8 @@
 // frame to frame as the angular velocity says; and the columns show what a
 // teacher plots from them, the Dzhanibekov flip of the inertia scene (the
 // spin about the intermediate axis reverses in the body's frame, those about
-// the smallest and largest axes keep their sign).
+// the smallest and largest axes keep their sign). And `run --json`'s timing
+// of a run too short to sample.
 #include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -113,6 +115,23 @@ TEST_F(RunCsv, BodyRowsCarryOrientationAndAngularVelocity) {
     EXPECT_GE(flips(1, 0), 2) << "the Dzhanibekov flip: the intermediate axis reverses, and back";
     EXPECT_EQ(flips(0, 1), 0) << "the smallest axis is stable";
     EXPECT_EQ(flips(2, 2), 0) << "the largest axis is stable";
+}
+
+// `run --json`'s ms_per_step: the first frame is not timed (it pays once for
+// what the later ones reuse), so a run of one frame has no figure, null
+// rather than a 0 that would read as "free"; from the second frame on, a
+// figure for the whole step.
+TEST(RunJson, AOneFrameRunHasNoTimingAndALongerOneHas) {
+    const test::Ran one = test::shell(std::string(PLAUSIBLE_EXE) + " run oscillator --frames 1 --json");
+    ASSERT_EQ(one.status, 0) << one.out;
+    EXPECT_NE(one.out.find(R"("ms_per_step":{"particles":null,"springs":null,"total":null,"watchdog":null})"),
+              std::string::npos)
+        << one.out;
+    const test::Ran two = test::shell(std::string(PLAUSIBLE_EXE) + " run oscillator --frames 2 --json");
+    ASSERT_EQ(two.status, 0) << two.out;
+    const std::size_t total = two.out.find(R"("total":)");
+    ASSERT_NE(total, std::string::npos) << two.out;
+    EXPECT_GT(std::strtod(two.out.c_str() + total + 8, nullptr), 0.0) << "ms, " << two.out;
 }
 
 }  // namespace
