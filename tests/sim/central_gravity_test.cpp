@@ -139,6 +139,55 @@ TEST(CentralGravity, WideAndFusedPassesGiveTheSameBits) {
     }
 }
 
+// A centre at the origin, (+0, +0, +0), has a build of its own that takes d
+// as x itself. Against a centre at (-0, -0, -0), which the general build
+// takes (d = x - -0 = x + 0: x again, except where x is -0), the same bits,
+// at both widths, from zero or after a field; with a particle at the centre
+// and one pinned. A -0 in x is where the two differ (the general build turns
+// it into +0), so the origin's build is taken only at +0.
+TEST(CentralGravity, TheOriginsBuildGivesTheGeneralBuildsBits) {
+    const CentralGravity origin{Vec3(0.0, 0.0, 0.0), 2.3}, minus{Vec3(-0.0, -0.0, -0.0), 2.3};  // μ, m³/s²
+    const std::size_t n = 37;
+    Vec3Array x(n), v(n), field(n);
+    std::vector<double> mass(n), inv_mass(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double s = static_cast<double>(i);
+        x.set(i, Vec3(std::sin(0.9 * s + 0.4), std::cos(1.1 * s) * 2.5, 0.3 * s - 1.7));
+        field.set(i, Vec3(0.02 * s, -9.81 * (0.25 + 0.5 * s), 0.001 * s));  // N
+        mass[i] = 0.25 + 0.5 * s;
+        inv_mass[i] = 1.0 / mass[i];
+    }
+    x.set(4, Vec3::Zero());  // at the centre: no force
+    inv_mass[9] = 0.0;
+    const ForceInput in = input_of(x, v, mass, inv_mass);
+    for (const bool wide : {false, true}) {
+        if (wide && !avx2_available()) continue;
+        SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
+        Vec3Array f0 = field, f1 = field, a0(n), a1(n), b0 = field, b1 = field;
+        accumulate(origin, in, f0.span(), wide);
+        accumulate(minus, in, f1.span(), wide);
+        EXPECT_TRUE(same_bits(f0, f1)) << "accumulate";
+        to_acceleration(origin, in, a0.span(), true, wide);
+        to_acceleration(minus, in, a1.span(), true, wide);
+        EXPECT_TRUE(same_bits(a0, a1)) << "from zero";
+        to_acceleration(origin, in, b0.span(), false, wide);
+        to_acceleration(minus, in, b1.span(), false, wide);
+        EXPECT_TRUE(same_bits(b0, b1)) << "after a field";
+        EXPECT_NE(a0.get(0), Vec3::Zero()) << "m/s², it pulls";
+    }
+    // x = (-0, y, z), added to a sum of -0: the general build's d.x is +0,
+    // its force's x -0, and -0 + -0 stays -0; the origin build's d.x is -0,
+    // its force's x +0, and the sum +0.
+    Vec3Array xm(1), vm(1), fm0(1), fm1(1);
+    xm.set(0, Vec3(-0.0, 1.0, 0.5));
+    fm0.set(0, Vec3(-0.0, 0.0, 0.0)), fm1.set(0, Vec3(-0.0, 0.0, 0.0));
+    const std::vector<double> m1 = {1.0}, inv1 = {1.0};
+    accumulate(origin, input_of(xm, vm, m1, inv1), fm0.span(), false);
+    accumulate(minus, input_of(xm, vm, m1, inv1), fm1.span(), false);
+    EXPECT_FALSE(std::signbit(fm0.get(0).x())) << "the origin's build";
+    EXPECT_TRUE(std::signbit(fm1.get(0).x())) << "a centre at -0 is not the origin's build";
+}
+
 TEST(CentralGravity, RefusesBadParameters) {
     auto message_of = [](const CentralGravity& g) -> std::string {
         try {
