@@ -118,6 +118,12 @@ template <int kStill, class In, class Out>
     gravity_acceleration<kStill>(pair, x, v, mass, inv_mass, a);
 }
 
+// Whether the pair's force reads the particles' velocities: a field (which
+// may hold drag), a spring's damper. Where it does not, a step may pass any
+// velocity (velocity Verlet its prediction's inputs) and get the same bits.
+inline bool reads_velocity(const SpringPair& pair) { return pair.field != nullptr || pair.spring->c != 0.0; }
+inline bool reads_velocity(const PairGravity& pair) { return pair.field != nullptr; }
+
 // A method's pair step: where the block is two particles that Dynamics
 // gives as a pair (StepArrays::pair where the caller looked it up, else
 // Dynamics::pair_path), calls step(pair, path) with its SpringPair or

@@ -554,20 +554,23 @@ TEST(FewParticles, TheLastBlocksParticleGivesItsBitsAlone) {
 // planet around its sun) evaluate it inline (Dynamics::pair_path's
 // gravity); a Dynamics that only forwards acceleration() takes the general
 // few-particle path instead: the same bits, with the sun pinned (first or
-// second) or free, softened or not, in a field or not.
+// second) or free, softened or not, in a field or not, with drag (a force
+// that reads velocity: velocity Verlet's prediction) or without.
 TEST(FewParticles, TheGravityPairGivesTheGeneralPathsBits) {
-    for (const bool field : {false, true}) {
+    const char* fields[] = {"no field", "in a field", "in a field with drag"};
+    for (const int field : {0, 1, 2}) {
         for (const double softening : {0.0, 0.05}) {
             for (int pinned = -1; pinned < 2; ++pinned) {
-                SCOPED_TRACE(std::string(field ? "in a field" : "no field") + ", softening " +
-                             std::to_string(softening) + " m, pinned particle " + std::to_string(pinned));
+                SCOPED_TRACE(std::string(fields[field]) + ", softening " + std::to_string(softening) +
+                             " m, pinned particle " + std::to_string(pinned));
                 std::vector<double> mass = {2.0, 1e-3}, inv_mass = {0.5, 1e3};
                 if (pinned >= 0) inv_mass[static_cast<std::size_t>(pinned)] = 0.0;
                 Vec3Array x(2), v(2);
                 x.set(1, Vec3(0.5, 0.1, 0.0));
                 v.set(1, Vec3(0.0, 2.0, 0.1));
                 std::vector<ForceDef> defs = {NewtonGravity{1.0, softening}};
-                if (field) defs.insert(defs.begin(), UniformGravity{});
+                if (field > 0) defs.insert(defs.begin(), UniformGravity{});
+                if (field > 1) defs.insert(defs.begin(), LinearDrag{0.3});
                 ParticleForces pair(defs, mass, inv_mass), forwarded(defs, mass, inv_mass);
                 PredictingForces general(forwarded);
                 ASSERT_NE(pair.pair_path(2).gravity, nullptr);
