@@ -96,7 +96,19 @@ public:
     //   emit -> forces + integrate -> constraints -> collisions -> plasticity -> rigid -> watchdog
     // (a stage the model does not use costs nothing). Throws InputError for
     // bad settings. Once the watchdog has a verdict, does nothing.
-    void step(const StepSettings& settings);
+    void step(const StepSettings& settings) {
+        validate(settings);
+        if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
+        ++frames_;
+        // Inline, and out of line only to what it calls: the common step of
+        // a bare World (bare_: one substep, the watchdog on), in a frame that
+        // is not sampled, costs no more than step_bare's own work.
+        if (frames_ < next_sample_ && bare_ && settings.substeps == 1 && watchdog_.enabled) {
+            step_bare(settings.integrator, settings.dt);
+        } else {
+            step_frame(settings);
+        }
+    }
 
     // Called after each substep of step(), once its stages (the watchdog's
     // too) have run, with the substep's number from 0: where a caller looks
@@ -238,7 +250,9 @@ private:
     // sampled frame) or not at all.
     template <class Stopwatch>
     void run_substeps(const StepSettings& settings, Stopwatch& laps);
-    void plan_next_sample();  // after a sampled frame: when to sample again
+    void plan_next_sample();                          // after a sampled frame: when to sample again
+    void step_bare(Integrator integrator, double h);  // step()'s common case: step_once and the watchdog
+    void step_frame(const StepSettings& settings);    // step()'s others, frames_ counted
     // One integrator step; watch_blocks: count the watchdog's suspects block
     // by block (into watched_suspects_) as the integrator leaves each block.
     inline void step_once(Integrator integrator, double h, bool watch_blocks);  // defined in world.cpp only
