@@ -95,24 +95,36 @@ bool same_bits(const Vec3Array& a, const Vec3Array& b) {
     return fa.size() == fb.size() && std::memcmp(fa.data(), fb.data(), fa.size() * sizeof(double)) == 0;
 }
 
-TEST(CentralGravity, WideAndFusedPassesGiveTheSameBits) {
-    // 37 particles (vector bodies and a remainder at either width), one at the
-    // centre (a force of -0 there: +0 + -0 is +0, an addition the fused pass
-    // must keep) and one pinned.
-    const CentralGravity gravity{Vec3(0.2, -0.1, 0.3), 1.7};  // μ, m³/s²
-    const std::size_t n = 37;
-    Vec3Array x(n), v(n), field(n);
-    std::vector<double> mass(n), inv_mass(n);
-    for (std::size_t i = 0; i < n; ++i) {
+// 37 particles (vector bodies and a remainder at either width), particle 5
+// at `centre` (a force of -0 there: +0 + -0 is +0, an addition the fused
+// pass must keep) and particle 7 pinned; a field's force on each.
+struct Swarm {
+    static constexpr std::size_t n = 37;
+    Vec3Array x{n}, v{n}, field{n};
+    std::vector<double> mass = std::vector<double>(n), inv_mass = std::vector<double>(n);
+    ForceInput input() const { return input_of(x, v, mass, inv_mass); }
+};
+Swarm swarm_about(const Vec3& centre) {
+    Swarm w;
+    for (std::size_t i = 0; i < Swarm::n; ++i) {
         const double s = static_cast<double>(i);
-        x.set(i, Vec3(std::sin(1.3 * s + 0.2), std::cos(0.7 * s) * 1.5, 0.4 * s - 0.9));
-        field.set(i, Vec3(0.01 * s, -9.81 * (0.5 + 0.125 * s), -0.003 * s));  // N, gravity and drag, say
-        mass[i] = 0.5 + 0.125 * s;
-        inv_mass[i] = 1.0 / mass[i];
+        w.x.set(i, Vec3(std::sin(1.3 * s + 0.2), std::cos(0.7 * s) * 1.5, 0.4 * s - 0.9));
+        w.field.set(i, Vec3(0.01 * s, -9.81 * (0.5 + 0.125 * s), -0.003 * s));  // N, gravity and drag, say
+        w.mass[i] = 0.5 + 0.125 * s;
+        w.inv_mass[i] = 1.0 / w.mass[i];
     }
-    x.set(5, gravity.center);
-    inv_mass[7] = 0.0;
-    const ForceInput in = input_of(x, v, mass, inv_mass);
+    w.x.set(5, centre);
+    w.inv_mass[7] = 0.0;
+    return w;
+}
+
+TEST(CentralGravity, WideAndFusedPassesGiveTheSameBits) {
+    const CentralGravity gravity{Vec3(0.2, -0.1, 0.3), 1.7};  // μ, m³/s²
+    const Swarm w = swarm_about(gravity.center);
+    const std::size_t n = Swarm::n;
+    const Vec3Array& field = w.field;
+    const std::vector<double>& inv_mass = w.inv_mass;
+    const ForceInput in = w.input();
     // The reference: zero (or the field), accumulate in the pinned build, a *= 1/m.
     auto reference = [&](const Vec3Array& start) {
         Vec3Array a = start;
@@ -147,19 +159,10 @@ TEST(CentralGravity, WideAndFusedPassesGiveTheSameBits) {
 // it into +0), so the origin's build is taken only at +0.
 TEST(CentralGravity, TheOriginsBuildGivesTheGeneralBuildsBits) {
     const CentralGravity origin{Vec3(0.0, 0.0, 0.0), 2.3}, minus{Vec3(-0.0, -0.0, -0.0), 2.3};  // μ, m³/s²
-    const std::size_t n = 37;
-    Vec3Array x(n), v(n), field(n);
-    std::vector<double> mass(n), inv_mass(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double s = static_cast<double>(i);
-        x.set(i, Vec3(std::sin(0.9 * s + 0.4), std::cos(1.1 * s) * 2.5, 0.3 * s - 1.7));
-        field.set(i, Vec3(0.02 * s, -9.81 * (0.25 + 0.5 * s), 0.001 * s));  // N
-        mass[i] = 0.25 + 0.5 * s;
-        inv_mass[i] = 1.0 / mass[i];
-    }
-    x.set(4, Vec3::Zero());  // at the centre: no force
-    inv_mass[9] = 0.0;
-    const ForceInput in = input_of(x, v, mass, inv_mass);
+    const Swarm w = swarm_about(Vec3::Zero());
+    const std::size_t n = Swarm::n;
+    const Vec3Array& field = w.field;
+    const ForceInput in = w.input();
     for (const bool wide : {false, true}) {
         if (wide && !avx2_available()) continue;
         SCOPED_TRACE(wide ? "AVX2 build" : "pinned build");
