@@ -100,9 +100,10 @@ public:
         validate(settings);
         if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
         ++frames_;
-        // Inline, and out of line only to what it calls: the common step of
-        // a bare World (bare_: one substep, the watchdog on), in a frame that
-        // is not sampled, costs no more than step_bare's own work.
+        // Inline: the common step, a bare World's (bare_: one substep, the
+        // watchdog on) in a frame that is not sampled, goes straight to
+        // step_bare, without a call that saves the registers the general
+        // step needs; every other step to step_frame.
         if (frames_ < next_sample_ && bare_ && settings.substeps == 1 && watchdog_.enabled) {
             step_bare(settings.integrator, settings.dt);
         } else {
