@@ -119,8 +119,9 @@ World::World(ParticleModel model)
 }
 
 void World::refresh_bare() {
-    bare_ = !systems_.emitters && !systems_.constraints && !systems_.collisions && !systems_.plasticity && !rigid_ &&
-            watchdog_.contain.empty() && !(drag_ && drag_->kind == Drag::Kind::particle) && !substep_observer_;
+    bare_ = watchdog_.enabled && !systems_.emitters && !systems_.constraints && !systems_.collisions &&
+            !systems_.plasticity && !rigid_ && watchdog_.contain.empty() &&
+            !(drag_ && drag_->kind == Drag::Kind::particle) && !substep_observer_;
 }
 
 void World::set_wide(bool wide) {
@@ -321,8 +322,8 @@ struct NoClock {
 
 }  // namespace
 
-// step()'s common case, a bare World's step of one substep, the watchdog on,
-// in a frame that is not sampled (run_substeps' first case, without the
+// step()'s common case, a bare World's step of one substep in a frame that
+// is not sampled (run_substeps' first case, without the
 // clocks). Out of line, so that step() is small enough to inline: its call
 // and the pushes of the registers the general step needs cost velocity
 // Verlet's bead a fortieth of its instructions (329 -> 321 a step).
@@ -391,12 +392,12 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
     // division: its latency held up the whole of a small step, every stage
     // waiting on h.)
     const double h = settings.substeps == 1 ? settings.dt : settings.dt / settings.substeps;
-    // The common step of a bare World (bare_: one substep, the watchdog on):
+    // The common step of a bare World (bare_), of one substep:
     // the loop below without the stages it would skip, one test instead of a
     // dozen, which on the smallest systems (the report's single copies) is
     // a seventh of velocity Verlet's instructions (402 -> 345 a step). An
     // unsampled frame's never gets here: step() calls step_bare.
-    if (bare_ && settings.substeps == 1 && watchdog_.enabled) {
+    if (bare_ && settings.substeps == 1) {
         step_once(settings.integrator, h, true);
         laps.lap(times_.particles);
         watch();

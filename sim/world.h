@@ -100,11 +100,11 @@ public:
         validate(settings);
         if (verdict_.exploded()) return;  // stopped cleanly: the state stays as the watchdog found it
         ++frames_;
-        // Inline: the common step, a bare World's (bare_: one substep, the
-        // watchdog on) in a frame that is not sampled, goes straight to
-        // step_bare, without a call that saves the registers the general
-        // step needs; every other step to step_frame.
-        if (frames_ < next_sample_ && bare_ && settings.substeps == 1 && watchdog_.enabled) {
+        // Inline: the common step, a bare World's (bare_) of one substep in
+        // a frame that is not sampled, goes straight to step_bare, without a
+        // call that saves the registers the general step needs; every other
+        // step to step_frame.
+        if (frames_ < next_sample_ && bare_ && settings.substeps == 1) {
             step_bare(settings.integrator, settings.dt);
         } else {
             step_frame(settings);
@@ -327,10 +327,10 @@ private:
     Verdict verdict_;
     std::vector<Contained> contained_;
     std::function<void(int)> substep_observer_;  // set_substep_observer
-    // A substep is the forces, the integrator and the watchdog, nothing else:
-    // no emitter, constraint, collision, plasticity, rigid body, contained
-    // range, particle drag or substep observer. Kept by refresh_bare, which
-    // everything that sets one of those calls.
+    // A substep is the forces, the integrator and the watchdog (on), nothing
+    // else: no emitter, constraint, collision, plasticity, rigid body,
+    // contained range, particle drag or substep observer. Kept by
+    // refresh_bare, which everything that sets one of those calls.
     bool bare_ = false;
     void refresh_bare();
     std::uint64_t frames_ = 0;
