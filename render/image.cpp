@@ -60,37 +60,18 @@ Image make_image(int width, int height, int channels, Rgba8 fill) {
     return image;
 }
 
-void write_png(const std::filesystem::path& path, const Image& image) {
-    check_size(image.width, image.height, image.channels, path.string().c_str());
+std::string encode_png(const Image& image) {
+    check_size(image.width, image.height, image.channels, "encode_png");
     if (image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels) {
-        throw RenderError(ErrorKind::bad_input, path.string() + ": image holds " + std::to_string(image.pixels.size()) +
+        throw RenderError(ErrorKind::bad_input, "encode_png: image holds " + std::to_string(image.pixels.size()) +
                                                     " bytes, not width x height x channels");
     }
-    // Encode in memory first: nothing touches the disk unless the PNG is whole.
     std::vector<unsigned char> png;
     if (stbi_write_png_to_func(&append_bytes, &png, image.width, image.height, image.channels, image.pixels.data(),
                                image.width * image.channels) == 0) {
-        throw RenderError(ErrorKind::bad_input, path.string() + ": the PNG encoder failed");
+        throw RenderError(ErrorKind::bad_input, "encode_png: the PNG encoder failed");
     }
-    write_file_atomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
-}
-
-void write_file_atomically(const std::filesystem::path& path, std::string_view bytes) {
-    const std::filesystem::path temp = path.string() + ".tmp-" + std::to_string(getpid());
-    auto fail = [&](const std::string& reason) {
-        std::error_code ignored;
-        std::filesystem::remove(temp, ignored);
-        return RenderError(ErrorKind::bad_input, "cannot write " + path.string() + ": " + reason);
-    };
-    std::FILE* file = std::fopen(temp.c_str(), "wb");
-    if (file == nullptr) throw fail(std::strerror(errno));
-    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
-    const int write_errno = errno;
-    const bool closed = std::fclose(file) == 0;
-    if (!written || !closed) throw fail(std::strerror(written ? errno : write_errno));
-    std::error_code error;
-    std::filesystem::rename(temp, path, error);
-    if (error) throw fail(error.message());
+    return std::string(png.begin(), png.end());
 }
 
 Image read_png(const std::filesystem::path& path, int channels) {

@@ -43,15 +43,10 @@ struct Image {
 // for a size <= 0 or above 16384, or channels other than 3 or 4.
 Image make_image(int width, int height, int channels, Rgba8 fill);
 
-// Writes bytes atomically: into "<path>.tmp-<pid>" in the same folder, then
-// renamed over `path`, so a reader never sees half a file. On failure the
-// temporary file is removed and RenderError(bad_input) names the path.
-void write_file_atomically(const std::filesystem::path& path, std::string_view bytes);
-
-// Writes a PNG atomically: into "<path>.tmp-<pid>" in the same folder, then
-// renamed over `path`. On any failure the temporary file is removed, `path` is
-// untouched, and RenderError(bad_input) names the path and the reason.
-void write_png(const std::filesystem::path& path, const Image& image);
+// The PNG file of `image`, in memory (where it goes is the commands' choice:
+// scenes/common/output_file.h). Throws RenderError(bad_input) for an image
+// whose size or bytes do not hold together, or when the encoder fails.
+std::string encode_png(const Image& image);
 
 // Reads a PNG into an image with `channels` channels (3 or 4). Throws
 // RenderError(bad_input) naming the path when it is missing or not a PNG.

@@ -1,4 +1,5 @@
 #include "scenes/check/check.h"
+#include "scenes/common/output_file.h"
 
 #include "render/font.h"
 #include "scenes/draw/run_recorder.h"
@@ -83,7 +84,7 @@ render::GoldenThresholds thresholds_from(const json& golden, const fs::path& fil
 
 void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::Fingerprint& fingerprint,
                   const fs::path& dir, const json& previous) {
-    fs::create_directories(dir);
+    make_output_folder(dir);
     json checkpoints = json::array();
     for (std::size_t i = 0; i < strip.frames.size(); ++i) {
         checkpoints.push_back({{"frame", strip.frames[i]}, {"time", strip.times[i]}, {"state_hash", strip.hashes[i]}});
@@ -103,9 +104,9 @@ void write_golden(const SceneDef& scene, const Filmstrip& strip, const render::F
                    {"thresholds", thresholds},
                    {"fingerprint", fingerprint_json(fingerprint)}};
     if (previous.contains("thresholds_reason")) golden["thresholds_reason"] = previous["thresholds_reason"];
-    render::write_png(dir / (scene.name + ".png"), strip.image);
-    render::write_file_atomically(dir / (scene.name + ".json"), golden.dump(2) + "\n");
-    render::write_file_atomically(dir / (scene.name + ".hashes"), format_run_hashes(strip.record));
+    write_output(dir / (scene.name + ".png"), render::encode_png(strip.image));
+    write_output(dir / (scene.name + ".json"), golden.dump(2) + "\n");
+    write_output(dir / (scene.name + ".hashes"), format_run_hashes(strip.record));
 }
 
 }  // namespace
@@ -263,8 +264,8 @@ struct Evidence {
     SceneCheck& c;
 
     std::string keep(const std::string& file, const render::Image& image) const {
-        fs::create_directories(report_dir / c.scene);
-        render::write_png(report_dir / c.scene / file, image);
+        make_output_folder(report_dir / c.scene);
+        write_output(report_dir / c.scene / file, render::encode_png(image));
         return c.scene + "/" + file;
     }
     // Expected and actual, and where their sizes match, the diff and the three side by side.
@@ -420,8 +421,8 @@ void judge_against_golden(SceneCheck& c, const SceneDef& scene, const Filmstrip&
         c.message = "golden rewritten (" + c.message + ")";
     } else if (pass && !golden.frames && c.hashes_comparable() && options.update == UpdateMode::missing) {
         // A golden from before the frame-by-frame hashes: what is missing is written, nothing else.
-        fs::create_directories(golden_dir);
-        render::write_file_atomically(golden.hashes_file, format_run_hashes(strip.record));
+        make_output_folder(golden_dir);
+        write_output(golden.hashes_file, format_run_hashes(strip.record));
         c.status = SceneCheck::Status::updated;
         c.message = "frame-by-frame hashes written: " + golden.hashes_file.string() + " (" + c.message + ")";
     } else if (pass) {
@@ -491,7 +492,7 @@ SceneCheck check_scene(const std::string& name, const std::vector<Override>& ove
         if ((c.status == SceneCheck::Status::fail && physics_changed && c.hashes_comparable()) ||
             c.status == SceneCheck::Status::exploded) {
             // The evidence a CI job's artifact carries: the actual run, to scrub locally.
-            fs::create_directories(report_dir / scene.name);
+            make_output_folder(report_dir / scene.name);
             const int last = scene.checkpoints.empty() ? scene.frames : scene.checkpoints.back();
             write_recording(report_dir / scene.name / "actual.rec", record_scene(scene, last));
             c.actual_recording = scene.name + "/actual.rec";
@@ -520,7 +521,7 @@ std::vector<SceneCheck> run_checks(const std::vector<std::string>& names, const 
                                    const render::Fingerprint* fingerprint) {
     const fs::path golden_dir = options.golden_dir.empty() ? default_golden_dir() : options.golden_dir;
     const fs::path report_dir = options.report_dir.empty() ? fs::path("out/check") : options.report_dir;
-    fs::create_directories(report_dir);
+    make_output_folder(report_dir);
     std::vector<SceneCheck> results;
     for (const std::string& name : names) {
         results.push_back(check_scene(name, overrides, options, renderer, fingerprint, golden_dir, report_dir));

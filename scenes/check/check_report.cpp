@@ -1,4 +1,5 @@
 #include "scenes/check/check_report.h"
+#include "scenes/common/output_file.h"
 
 #include <nlohmann/json.hpp>
 
@@ -210,9 +211,7 @@ const char* status_name(SceneCheck::Status status) {
 }
 
 void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scenes, const ShardInfo& shard) {
-    std::error_code error;
-    fs::create_directories(dir, error);
-    if (error || !fs::is_directory(dir)) throw std::runtime_error("cannot write the report into " + dir.string());
+    make_output_folder(dir);
     nlohmann::json report = {{"scenes", nlohmann::json::array()}};
     for (const SceneCheck& c : scenes) report["scenes"].push_back(to_json(c));
     const std::string shard_line =
@@ -242,8 +241,8 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
     html << "</div>\n";
     for (const SceneCheck* c : order) html << scene_html(*c, dir);
     html << "<script>" << kScript << "</script>\n</body></html>\n";
-    render::write_file_atomically(dir / "report.json", report.dump(2) + "\n");
-    render::write_file_atomically(dir / "index.html", html.str());
+    write_output(dir / "report.json", report.dump(2) + "\n");
+    write_output(dir / "index.html", html.str());
 }
 
 }  // namespace scenes

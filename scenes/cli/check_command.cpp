@@ -6,8 +6,10 @@
 #include "render/renderer.h"
 #include "scenes/check/check.h"
 
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <utility>
 
 namespace scenes::cli {
@@ -25,14 +27,22 @@ struct CheckArgs {
     std::string shard;  // "I/N"; empty: every scene
 };
 
-// "I/N" -> (I, N); the range is shard_of's to check.
+// "I/N" -> (I, N), each all digits and within an int (no wrap); the range
+// is shard_of's to check.
 std::pair<int, int> parse_shard(const std::string& text) {
-    int index = 0, count = 0;
-    char slash = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%d%c%d%c", &index, &slash, &count, &extra) != 3 || slash != '/') {
-        throw sim::InputError("--shard must be I/N, the I-th of N parts, e.g. 2/4 (got '" + text + "')");
-    }
-    return {index, count};
+    const auto fail = [&] {
+        return sim::InputError("--shard must be I/N, the I-th of N parts, e.g. 2/4, each at most " +
+                               std::to_string(std::numeric_limits<int>::max()) + " (got '" + text + "')");
+    };
+    const std::size_t slash = text.find('/');
+    if (slash == std::string::npos) throw fail();
+    const auto number = [&](std::size_t from, std::size_t to) {
+        int n = 0;
+        const auto [end, error] = std::from_chars(text.data() + from, text.data() + to, n);
+        if (from == to || error != std::errc() || end != text.data() + to) throw fail();
+        return n;
+    };
+    return {number(0, slash), number(slash + 1, text.size())};
 }
 
 UpdateMode parse_update(const std::string& text) {

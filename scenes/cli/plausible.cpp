@@ -7,9 +7,11 @@
 #include "render/error.h"
 #include "scenes/cli/commands.h"
 #include "scenes/common/interrupt.h"
+#include "scenes/common/output_file.h"
 
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 
 namespace scenes::cli {
 
@@ -42,10 +44,17 @@ int run_guarded(const Command& command) {
     } catch (const sim::InputError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitBadInput;
+    } catch (const OutputError& e) {
+        std::fprintf(stderr, "plausible: error: %s\n", e.what());
+        return kExitBadInput;
+    } catch (const std::filesystem::filesystem_error& e) {
+        // A path given (or made from one given) that cannot be used: bad input.
+        std::fprintf(stderr, "plausible: error: cannot use %s: %s\n", e.path1().c_str(), e.code().message().c_str());
+        return kExitBadInput;
     } catch (const render::RenderError& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
-        return e.kind() == render::ErrorKind::bad_input || e.kind() == render::ErrorKind::no_display ? kExitBadInput
-                                                                                                     : kExitFailed;
+        // Asked for what cannot be had here (a size, a display, a GPU): bad input; the driver's refusal: a failure.
+        return e.kind() == render::ErrorKind::gl ? kExitFailed : kExitBadInput;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "plausible: error: %s\n", e.what());
         return kExitFailed;
@@ -61,8 +70,15 @@ int main(int argc, char** argv) {
     CLI::App app{"Plausible: a games-physics lab. Scenes run headless; see `plausible list`."};
     app.set_version_flag("--version", "plausible " PLAUSIBLE_VERSION);
     app.require_subcommand(1);
+    const std::string exit_codes =
+        "Exit codes: 0 ok; 1 a check failed, a simulation exploded or a recording diverged; 2 bad input (usage, a "
+        "scene file or value, a path that cannot be read or written, no display or GPU); 130 or 143 interrupted "
+        "(Ctrl+C, SIGTERM), nothing written.";
+    app.footer(exit_codes);
+    std::signal(SIGXFSZ, SIG_IGN);  // a file size limit: a failed write (exit 2, named), not a killed process
     const Command commands[] = {add_list(app),  add_run(app),  add_render(app), add_check(app),
                                 add_video(app), add_view(app), add_report(app)};
+    for (const Command& command : commands) command.app->footer(exit_codes);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

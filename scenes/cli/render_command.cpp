@@ -1,6 +1,7 @@
 // `plausible render SCENE`: chosen frames of a scene as PNG files, and a
 // contact sheet of them all.
 #include "scenes/cli/commands.h"
+#include "scenes/common/output_file.h"
 
 #include "render/font.h"
 #include "render/renderer.h"
@@ -73,7 +74,7 @@ int render_scene(const RenderArgs& r) {
     }
     const std::vector<int> frames = parse_frames(r.frames, scene);
     const render::SheetOptions sheet_options = sheet_layout(static_cast<int>(frames.size()), w, h, r.size);
-    fs::create_directories(r.out);
+    make_output_folder(r.out);
     const auto context = render::create_context({.backend = backend});
     render::Renderer renderer(*context);
     SceneRun run(scene);
@@ -86,13 +87,14 @@ int render_scene(const RenderArgs& r) {
         tiles.push_back(renderer.render(run.draw_list(w, h), {.width = w, .height = h, .msaa_samples = r.msaa}));
         std::snprintf(name, sizeof name, "_f%05d.png", run.frame());
         const fs::path png = fs::path(r.out) / (scene.name + name);
-        render::write_png(png, tiles.back());
+        write_output(png, render::encode_png(tiles.back()));
         std::printf("%s\n", png.c_str());
         labels.push_back("frame " + std::to_string(run.frame()));
         if (run.verdict().exploded()) break;
     }
     const fs::path sheet = fs::path(r.out) / (scene.name + "_sheet.png");
-    render::write_png(sheet, render::contact_sheet(tiles, labels, render::Font::default_font(), sheet_options));
+    write_output(sheet,
+                 render::encode_png(render::contact_sheet(tiles, labels, render::Font::default_font(), sheet_options)));
     std::printf("%s\n", sheet.c_str());
     const int replay = report_replay(scene, run.diverged_frame(), run.frame());
     if (run.verdict().exploded()) {

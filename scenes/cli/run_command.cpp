@@ -5,6 +5,7 @@
 #include "scenes/model/recording.h"
 
 #include "scenes/common/interrupt.h"
+#include "scenes/common/output_file.h"
 #include "scenes/common/progress.h"
 #include "scenes/draw/run_recorder.h"
 #include "scenes/draw/scene_run.h"
@@ -13,8 +14,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -39,18 +42,11 @@ class CsvWriter {
 public:
     // bodies: the scene has rigid bodies, whose rows carry their orientation
     // and angular velocity in seven more columns (empty on particle rows).
-    CsvWriter(std::string path, bool bodies)
-        : path_(std::move(path)), temp_(path_ + ".tmp-" + std::to_string(getpid())), bodies_(bodies) {
-        out_.open(temp_, std::ios::binary);
-        if (!out_) throw sim::InputError("--csv: cannot write " + path_);
+    CsvWriter(const std::string& path, bool bodies) : file_(path), bodies_(bodies) {
+        out_.open(file_.temporary(), std::ios::binary);
+        if (!out_) throw file_.error(std::strerror(errno));
         out_ << "frame,time,kind,id,x,y,z,vx,vy,vz" << (bodies_ ? ",qw,qx,qy,qz,wx,wy,wz" : "") << '\n';
         out_.precision(17);
-    }
-    ~CsvWriter() {
-        if (!out_.is_open()) return;
-        out_.close();
-        std::error_code error;
-        fs::remove(temp_, error);
     }
     CsvWriter(const CsvWriter&) = delete;
     CsvWriter& operator=(const CsvWriter&) = delete;
@@ -72,16 +68,13 @@ public:
                      << ',' << w.z() << '\n';
             }
         }
+        if (!out_) throw file_.error(std::strerror(errno));  // the disk full: stop now, not at the end
     }
     // Renames the finished file into place.
     void commit() {
         out_.close();
-        std::error_code error;
-        fs::rename(temp_, path_, error);
-        if (error) {
-            fs::remove(temp_, error);
-            throw sim::InputError("--csv: cannot write " + path_);
-        }
+        if (!out_) throw file_.error(std::strerror(errno));
+        file_.commit();
     }
 
 private:
@@ -89,7 +82,7 @@ private:
         out_ << frame << ',' << t << ',' << kind << ',' << id << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
              << v.x() << ',' << v.y() << ',' << v.z();
     }
-    std::string path_, temp_;
+    OutputFile file_;
     bool bodies_ = false;
     std::ofstream out_;
 };
@@ -259,7 +252,7 @@ int run_scene(const RunArgs& args) {
     std::optional<CsvWriter> csv;
     if (args.csv) interrupts.emplace(), csv.emplace(*args.csv, !scene.model.rigid.bodies.empty());
     std::optional<RunRecorder> recorder;
-    if (args.record) recorder.emplace(scene, scene.frames);
+    if (args.record) check_output(*args.record), recorder.emplace(scene, scene.frames);  // refused before the run
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr, recorder ? &*recorder : nullptr);
     if (csv) csv->commit();
     if (recorder) write_recording(*args.record, recorder->recording());

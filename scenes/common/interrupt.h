@@ -49,10 +49,9 @@ void check_interrupt(const std::string& command, const std::string& where);
 // Throws that Interrupted for `signal`.
 [[noreturn]] void throw_interrupted(const std::string& command, const std::string& where, int signal);
 
-// The signal (SIGINT or SIGTERM) that ended a child process, from a
-// system() or pclose() status: killed by it, or a shell's exit status
-// 128 + it. 0 otherwise. (system() ignores SIGINT in the caller while the
-// child runs, so a Ctrl+C then reaches only the child: this is how it shows.)
+// The signal (SIGINT or SIGTERM) that ended a child process, from its wait
+// status: killed by it, or an exit status of 128 + it. 0 otherwise. (A
+// Ctrl+C in a terminal reaches the child too: this is how it shows there.)
 int child_interrupt(int status);
 
 }  // namespace scenes

@@ -15,18 +15,23 @@ namespace {
 void apply_override(toml::table& root, const Override& o, Reader& reader) {
     const std::string text = o.key + "=" + o.value;
     auto fail = [&](const std::string& why) -> void { throw SceneError("--set " + text + ": " + why); };
+    // One value, on one line: "2\nstep.dt = 0.5" would set a second key unseen.
+    if (o.value.find_first_of("\r\n") != std::string::npos) fail("the value spans more than one line");
     toml::table value_doc;
     try {
         value_doc = toml::parse("v = " + o.value);
     } catch (const toml::parse_error& e) {
         fail("the value is not a TOML value (" + std::string(e.description()) + "); strings need quotes: \"rk4\"");
     }
+    if (value_doc.size() != 1) fail("the value is more than one TOML value");
     toml::table* table = &root;
     std::string so_far;
     std::stringstream path(o.key);
     std::string segment;
     std::vector<std::string> segments;
     while (std::getline(path, segment, '.')) segments.push_back(segment);
+    if (segments.size() > static_cast<std::size_t>(kMaxKeyParts))
+        fail("a key of more than " + std::to_string(kMaxKeyParts) + " parts");
     for (std::size_t s = 0; s < segments.size(); ++s) {
         std::string name = segments[s];
         std::optional<std::size_t> index;

@@ -3,6 +3,8 @@
 // recording replays.
 #include "scenes/model/recording.h"
 
+#include "scenes/common/output_file.h"
+
 #include "sim/integrators.h"
 #include "sim/state_hash.h"
 
@@ -277,22 +279,7 @@ void write_recording(const fs::path& file, const Recording& rec) {
     end.u64(fnv(out.bytes()));
     out.section("END ", end);
 
-    const fs::path temp = file.string() + ".tmp-" + std::to_string(getpid());
-    {
-        std::ofstream f(temp, std::ios::binary);
-        f.write(out.bytes().data(), static_cast<std::streamsize>(out.bytes().size()));
-        if (!f) {
-            std::error_code e;
-            fs::remove(temp, e);
-            throw sim::InputError("--record: cannot write " + file.string());
-        }
-    }
-    std::error_code error;
-    fs::rename(temp, file, error);
-    if (error) {
-        fs::remove(temp, error);
-        throw sim::InputError("--record: cannot write " + file.string());
-    }
+    write_output(file, std::string_view(out.bytes().data(), out.bytes().size()));
 }
 
 bool is_recording(const fs::path& file) {

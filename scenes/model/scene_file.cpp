@@ -79,10 +79,51 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     return scene;
 }
 
+// toml++ limits how deep values nest, not how many parts a dotted key or a
+// table header has, and recurses once a part: 35,000 parts overflowed the
+// stack. Refused before it parses: outside strings and comments, no run of
+// text between = , [ ] { } or a line's end holds more than kMaxKeyParts - 1 dots.
+void refuse_deep_keys(std::string_view text, const std::string& display) {
+    int line = 1, dots = 0;
+    char quote = 0;       // the open string's delimiter, or 0
+    bool triple = false;  // a multi-line string
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n') ++line;
+        if (quote != 0) {
+            if (c == '\\' && quote == '"') {
+                ++i;  // an escaped character, whatever it is
+                if (i < text.size() && text[i] == '\n') ++line;
+            } else if (c == quote && (!triple || text.substr(i, 3) == std::string(3, quote))) {
+                i += triple ? 2 : 0;
+                quote = 0;
+            } else if (c == '\n' && !triple) {
+                quote = 0;  // an unterminated string: toml++ says so
+            }
+            continue;
+        }
+        if (c == '"' || c == '\'') {
+            quote = c;
+            triple = text.substr(i, 3) == std::string(3, c);
+            i += triple ? 2 : 0;
+        } else if (c == '#') {
+            while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+        } else if (c == '.') {
+            if (++dots >= kMaxKeyParts) {
+                throw SceneError(display + ":" + std::to_string(line) + ": a dotted key or table header of more than " +
+                                 std::to_string(kMaxKeyParts) + " parts");
+            }
+        } else if (std::string_view("=,[]{}\n").find(c) != std::string_view::npos) {
+            dots = 0;
+        }
+    }
+}
+
 SceneDef parse_with(std::string_view text, const std::string& display, const std::string& name,
                     const std::vector<Override>& overrides) {
     Reader reader(display);
     toml::table root;
+    refuse_deep_keys(text, display);
     try {
         root = toml::parse(text, display);
     } catch (const toml::parse_error& e) {

@@ -20,6 +20,10 @@
 
 namespace scenes::loader {
 
+// The most parts a dotted key or table header may have, in a file or a --set
+// key: toml++ recurses once a part, and a scene needs a handful.
+constexpr int kMaxKeyParts = 64;
+
 // "No upper bound" for number() and positive().
 constexpr double kHuge = std::numeric_limits<double>::max();
 

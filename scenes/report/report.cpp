@@ -5,6 +5,7 @@
 // in report_stages.h.
 #include "scenes/report/report.h"
 
+#include "scenes/common/child_process.h"
 #include "scenes/common/interrupt.h"
 #include "scenes/common/progress.h"
 #include "scenes/model/scene.h"
@@ -75,6 +76,9 @@ Measurements measure(const Settings& settings, bool show_progress, const fs::pat
 // so that the rename stays on one file system. Throws sim::InputError when
 // --out holds something that is not a report, or cannot be written.
 fs::path temporary_folder(const fs::path& out) {
+    if (fs::exists(out) && !fs::is_directory(out)) {
+        throw sim::InputError("report: --out " + out.string() + " is not a folder: choose another path");
+    }
     if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "report.md")) {
         throw sim::InputError("report: --out " + out.string() +
                               " exists and holds no report: choose another directory");
@@ -99,7 +103,7 @@ void publish(const fs::path& tmp, const fs::path& out) {
 }  // namespace
 
 fs::path write_report(const ReportOptions& options) {
-    if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+    if (!on_path("gnuplot")) {
         throw sim::InputError(
             "report: gnuplot is not installed (Debian: apt-get install gnuplot-nox; `make test` does it)");
     }

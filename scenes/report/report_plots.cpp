@@ -5,6 +5,7 @@
 // how cost grows. Its own file: the only stage that runs gnuplot.
 #include "scenes/report/report_stages.h"
 
+#include "scenes/common/child_process.h"
 #include "scenes/common/interrupt.h"
 
 #include "sim/error.h"
@@ -24,16 +25,17 @@ namespace fs = std::filesystem;
 // Runs gnuplot on a script in `dir`; its errors become an InputError.
 void gnuplot(const fs::path& dir, const std::string& name, const std::string& script) {
     const fs::path gp = dir / (name + ".gp"), err = dir / (name + ".gnuplot-errors");
-    write_file(gp, "cd '" + dir.string() + "'\n" + script);
-    const std::string command = "gnuplot '" + gp.string() + "' 2> '" + err.string() + "'";
-    const int status = std::system(command.c_str());
+    write_file(gp, script);
+    // Run in `dir`, so that the script names its files without the folder's path.
+    const int status = ChildProcess({"gnuplot", gp.filename().string()}, {.errors = err, .directory = dir}).wait();
     std::ifstream e(err);
     std::stringstream text;
     text << e.rdbuf();
     fs::remove(err);
     fs::remove(gp);
-    // system() ignores Ctrl+C here while gnuplot runs: a gnuplot ended by it says so.
+    // A Ctrl+C in a terminal reaches gnuplot too: a gnuplot ended by it says so.
     if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("report", name + ".png", signal);
+    check_interrupt("report", name + ".png");  // the same Ctrl+C reached us: gnuplot's failure is its doing
     if (status != 0) throw sim::InputError("report: gnuplot failed on " + name + ".png: " + text.str());
 }
 

@@ -6,6 +6,7 @@
 
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/common/child_process.h"
 #include "scenes/common/interrupt.h"
 #include "scenes/draw/scene_run.h"
 #include "scenes/model/scene.h"
@@ -16,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace scenes::report {
@@ -29,20 +31,32 @@ constexpr int kClipFrames = 30;
 
 // Wall time of ffmpeg encoding `frames` of the clip (cycled) to H.264, yuv420p, as a video would be.
 double encode_seconds(const std::vector<render::Image>& clip, int frames, const fs::path& log) {
-    const std::string pix_fmt = clip.front().channels == 4 ? "rgba" : "rgb24";
-    const std::string command = "ffmpeg -nostdin -loglevel error -f rawvideo -pix_fmt " + pix_fmt + " -s " +
-                                std::to_string(kVideoWidth) + "x" + std::to_string(kVideoHeight) +
-                                " -r 30 -i - -c:v libx264 -preset medium -pix_fmt yuv420p -f null - 2> '" +
-                                log.string() + "'";
+    const std::vector<std::string> command = {
+        "ffmpeg",    "-nostdin",
+        "-loglevel", "error",
+        "-f",        "rawvideo",
+        "-pix_fmt",  clip.front().channels == 4 ? "rgba" : "rgb24",
+        "-s",        std::to_string(kVideoWidth) + "x" + std::to_string(kVideoHeight),
+        "-r",        "30",
+        "-i",        "-",
+        "-c:v",      "libx264",
+        "-preset",   "medium",
+        "-pix_fmt",  "yuv420p",
+        "-f",        "null",
+        "-"};
     const auto start = Clock::now();
-    FILE* pipe = popen(command.c_str(), "w");
-    if (pipe == nullptr) throw sim::InputError("report: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+    std::optional<ChildProcess> ffmpeg;
+    try {
+        ffmpeg.emplace(command, ChildOptions{.pipe_input = true, .errors = log});
+    } catch (const std::runtime_error& e) {
+        throw sim::InputError(std::string("report: ") + e.what() + " (Debian: apt-get install ffmpeg)");
+    }
     bool written = true;
     for (int f = 0; f < frames && written; ++f) {
         const render::Image& image = clip[static_cast<std::size_t>(f) % clip.size()];
-        written = std::fwrite(image.pixels.data(), 1, image.pixels.size(), pipe) == image.pixels.size();
+        written = ffmpeg->write(image.pixels.data(), image.pixels.size());
     }
-    const int status = pclose(pipe);
+    const int status = ffmpeg->wait();
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     std::ifstream said(log);
     std::stringstream text;
@@ -52,7 +66,7 @@ double encode_seconds(const std::vector<render::Image>& clip, int frames, const 
     if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("report", "a test clip", signal);
     check_interrupt("report", "a test clip");  // Ctrl+C reaches ffmpeg too, which stops reading
     if (!written || status != 0) {
-        throw sim::InputError("report: ffmpeg failed encoding a test clip (exit status " + std::to_string(status) +
+        throw sim::InputError("report: ffmpeg failed encoding a test clip (" + describe_status(status) +
                               "): " + text.str());
     }
     return seconds;

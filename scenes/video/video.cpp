@@ -3,7 +3,9 @@
 #include "render/font.h"
 #include "render/gl_context.h"
 #include "render/renderer.h"
+#include "scenes/common/child_process.h"
 #include "scenes/common/interrupt.h"
+#include "scenes/common/output_file.h"
 #include "scenes/common/progress.h"
 #include "scenes/draw/scene_run.h"
 #include "scenes/video/ahead.h"
@@ -68,11 +70,7 @@ void validate(const VideoOptions& o) {
                                   "; or a --set variant KEY=VALUE)");
         }
     }
-    const fs::path dir = o.output.has_parent_path() ? o.output.parent_path() : fs::path(".");
-    if (!fs::is_directory(dir) || access(dir.c_str(), W_OK) != 0) {
-        throw sim::InputError("video: cannot write " + o.output.string() + ": " + dir.string() +
-                              " is not a writable folder");
-    }
+    check_output(o.output);  // a folder, a FIFO, a device, /proc: refused before any frame
 }
 
 // Copies `tile` into `frame` with its top-left corner at (x0, y0).
@@ -256,6 +254,41 @@ struct TileTexts {
     }
 };
 
+// Whether the video ffmpeg wrote is whole: an MP4's top-level boxes tile the
+// file exactly and one is its index (moov); a GIF ends with its trailer.
+// ffmpeg has exited 0 on a file cut short by a file size limit.
+bool whole_video(const fs::path& file, bool gif) {
+    std::ifstream in(file, std::ios::binary);
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (!in || ec || size < 8) return false;
+    if (gif) {
+        in.seekg(static_cast<std::streamoff>(size - 1));
+        return in.get() == 0x3B;
+    }
+    bool index = false;
+    for (std::uintmax_t at = 0; at < size;) {
+        unsigned char head[16];
+        in.seekg(static_cast<std::streamoff>(at));
+        if (!in.read(reinterpret_cast<char*>(head), 8)) return false;
+        std::uint64_t box = 0;
+        for (int k = 0; k < 4; ++k) box = (box << 8) | head[k];
+        std::size_t header = 8;
+        if (box == 1) {  // a 64-bit size follows the type
+            if (!in.read(reinterpret_cast<char*>(head + 8), 8)) return false;
+            box = 0;
+            for (int k = 8; k < 16; ++k) box = (box << 8) | head[k];
+            header = 16;
+        } else if (box == 0) {
+            box = size - at;  // to the end of the file
+        }
+        if (box < header || box > size - at) return false;
+        index = index || std::memcmp(head + 4, "moov", 4) == 0;
+        at += box;
+    }
+    return index;
+}
+
 // ffmpeg behind a pipe, writing a temporary file (and its log) beside the
 // output; finish() renames it into place. Destroyed unfinished (an error, an
 // interrupt), it leaves nothing behind. Frames go to ffmpeg from a thread of
@@ -263,36 +296,34 @@ struct TileTexts {
 // pipe blocks whenever ffmpeg is busy); at most kQueued wait their turn.
 class Encoder {
 public:
-    explicit Encoder(const VideoOptions& options) : options_(options) {
-        const fs::path dir = options.output.has_parent_path() ? options.output.parent_path() : fs::path(".");
-        const std::string tag = ".tmp-" + std::to_string(getpid());
-        temp_ = dir / ("." + options.output.filename().string() + tag);
-        log_ = dir / ("." + options.output.filename().string() + tag + ".log");
-    }
+    explicit Encoder(const VideoOptions& options)
+        : options_(options), output_(options.output), log_(output_.temporary().string() + ".log") {}
     ~Encoder() {
         {
             const std::lock_guard lock(mutex_);
             queue_.clear();  // unfinished: what waits is not written
         }
         stop_writer();
-        if (finished_) return;
-        if (pipe_ != nullptr) pclose(pipe_);
+        ffmpeg_.reset();
         std::error_code ec;
-        fs::remove(temp_, ec);
         fs::remove(log_, ec);
     }
     Encoder(const Encoder&) = delete;
     Encoder& operator=(const Encoder&) = delete;
 
-    bool started() const { return pipe_ != nullptr; }
+    bool started() const { return ffmpeg_ != nullptr; }
     void start(int channels) {
-        pipe_ = popen(ffmpeg_command(options_, channels, temp_, log_).c_str(), "w");
-        if (pipe_ == nullptr) throw std::runtime_error("video: cannot start ffmpeg (Debian: apt-get install ffmpeg)");
+        try {
+            ffmpeg_ = std::make_unique<ChildProcess>(ffmpeg_arguments(options_, channels, output_.temporary()),
+                                                     ChildOptions{.pipe_input = true, .errors = log_});
+        } catch (const std::runtime_error& e) {
+            throw std::runtime_error(std::string("video: ") + e.what() + " (Debian: apt-get install ffmpeg)");
+        }
         // A pipe of a megabyte where the system allows it (Linux: the
         // default limit), not 64 KB: a 720p frame then goes in three writes
         // that ffmpeg takes as it can, not forty-odd turns of the two
         // processes. Where it is refused the frames go through all the same.
-        fcntl(fileno(pipe_), F_SETPIPE_SZ, 1 << 20);
+        ffmpeg_->set_pipe_size(1 << 20);
         writer_ = std::thread([this] { write_frames(); });
     }
     // Frame k, whole: queued for the writer (a copy, into the storage of a
@@ -321,19 +352,19 @@ public:
     void finish() {
         stop_writer();
         if (broken_at_ >= 0) broken();
-        const int status = pclose(pipe_);
-        pipe_ = nullptr;
+        const int status = ffmpeg_->wait();
         if (const int signal = child_interrupt(status); signal != 0) throw_interrupted("video", "the end", signal);
         check_interrupt("video", "the end");
         if (status != 0) {
-            throw std::runtime_error("video: ffmpeg failed (exit status " + std::to_string(status) +
-                                     "): " + read_all(log_));
+            // ffmpeg's own words decide: a full disk is the output's error (exit 2), anything else ffmpeg's.
+            const std::string said = read_all(log_);
+            if (said.find("No space left") != std::string::npos || said.find("File too large") != std::string::npos)
+                throw output_.error(said);
+            throw std::runtime_error("video: ffmpeg failed (" + describe_status(status) + "): " + said);
         }
-        std::error_code ec;
-        fs::rename(temp_, options_.output, ec);
-        if (ec) throw std::runtime_error("video: cannot write " + options_.output.string() + ": " + ec.message());
-        fs::remove(log_, ec);
-        finished_ = true;
+        if (!whole_video(output_.temporary(), options_.output.extension() == ".gif"))
+            throw output_.error("the video ffmpeg wrote is cut short (the disk full, or a file size limit)");
+        output_.commit();
     }
 
 private:
@@ -354,7 +385,7 @@ private:
             queue_.pop_front();
             writing_ = true;
             lock.unlock();
-            const bool ok = std::fwrite(next.pixels.data(), 1, next.pixels.size(), pipe_) == next.pixels.size();
+            const bool ok = ffmpeg_->write(next.pixels.data(), next.pixels.size());
             lock.lock();
             writing_ = false;
             spare_.push_back(std::move(next.pixels));
@@ -385,9 +416,9 @@ private:
     }
 
     const VideoOptions& options_;
-    fs::path temp_, log_;
-    FILE* pipe_ = nullptr;
-    bool finished_ = false;
+    OutputFile output_;
+    fs::path log_;
+    std::unique_ptr<ChildProcess> ffmpeg_;
     std::thread writer_;
     std::mutex mutex_;
     std::condition_variable ready_, room_;  // a frame to write; room in the queue (or a failure)
@@ -550,19 +581,35 @@ private:
 
 }  // namespace
 
-std::string ffmpeg_command(const VideoOptions& o, int channels, const fs::path& temp, const fs::path& log) {
-    std::ostringstream c;
-    c << "ffmpeg -y -nostdin -loglevel error -f rawvideo -pix_fmt " << (channels == 4 ? "rgba" : "rgb24") << " -s "
-      << o.width << 'x' << o.height << " -r " << o.fps << " -i - ";
+std::vector<std::string> ffmpeg_arguments(const VideoOptions& o, int channels, const fs::path& output) {
+    std::vector<std::string> a = {"ffmpeg",
+                                  "-y",
+                                  "-nostdin",
+                                  "-loglevel",
+                                  "error",
+                                  "-f",
+                                  "rawvideo",
+                                  "-pix_fmt",
+                                  channels == 4 ? "rgba" : "rgb24",
+                                  "-s",
+                                  std::to_string(o.width) + "x" + std::to_string(o.height),
+                                  "-r",
+                                  std::to_string(o.fps),
+                                  "-i",
+                                  "-"};
     if (o.output.extension() == ".gif") {
         // One palette for the whole clip, then an ordered (Bayer) dither: no crawling noise between frames.
-        c << "-vf \"split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3\" -f gif ";
+        a.insert(a.end(),
+                 {"-vf", "split[a][b];[a]palettegen=stats_mode=full[p];[b][p]paletteuse=dither=bayer:bayer_scale=3",
+                  "-f", "gif"});
     } else {
-        c << "-c:v libx264 -preset medium -crf 20 -pix_fmt yuv420p -colorspace bt709 -color_primaries bt709 "
-             "-color_trc bt709 -color_range tv -movflags +faststart -f mp4 ";
+        a.insert(a.end(),
+                 {"-c:v",         "libx264",     "-preset",   "medium",           "-crf",  "20",         "-pix_fmt",
+                  "yuv420p",      "-colorspace", "bt709",     "-color_primaries", "bt709", "-color_trc", "bt709",
+                  "-color_range", "tv",          "-movflags", "+faststart",       "-f",    "mp4"});
     }
-    c << "'" << temp.string() << "' 2> '" << log.string() << "'";
-    return c.str();
+    a.push_back("file:" + output.string());  // "file:": a name with a colon or a leading '-' is still a file
+    return a;
 }
 
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options) {
@@ -588,7 +635,6 @@ VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overr
         options.backend ? render::create_context({.backend = *options.backend}) : render::create_fastest_context();
     render::Renderer renderer(*context);
     renderer.time_passes(options.verbose);
-    std::signal(SIGPIPE, SIG_IGN);    // a dead ffmpeg shows as a failed write, not a killed process
     const InterruptScope interrupts;  // Ctrl+C: stop at the next frame, remove the temporary file
     FrameLoop loop(scene, options, runs, grid, texts, renderer, frames);
     VideoStats stats = loop.run();

@@ -49,11 +49,10 @@ struct VideoStats {
 // extension), std::runtime_error when ffmpeg fails or goes away.
 VideoStats write_video(const SceneDef& scene, const std::vector<Override>& overrides, const VideoOptions& options);
 
-// The ffmpeg command that encodes raw frames (rgb24, or rgba for 4 channels)
-// from its standard input into `temp` as options say, its messages into
-// `log`: write_video's, and bench_video's reference (ffmpeg alone on the
-// same frames).
-std::string ffmpeg_command(const VideoOptions& options, int channels, const std::filesystem::path& temp,
-                           const std::filesystem::path& log);
+// The ffmpeg arguments that encode raw frames (rgb24, or rgba for 4
+// channels) from its standard input into `output` as options say:
+// write_video's, and bench_video's reference (ffmpeg alone on the same frames).
+std::vector<std::string> ffmpeg_arguments(const VideoOptions& options, int channels,
+                                          const std::filesystem::path& output);
 
 }  // namespace scenes

@@ -2,6 +2,7 @@
 // session, and run_viewer's loop. The viewer itself is in viewer.h, its
 // panel in panel.cpp, the camera and picking in picking.h.
 #include "scenes/view/view.h"
+#include "scenes/common/output_file.h"
 
 #include "render/gl_context.h"
 #include "render/image.h"
@@ -419,7 +420,7 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
                 options.screenshot.parent_path() /
                 ("view-" + scene.name + "-" + std::to_string(viewer.run().frame()) + ".png");
             try {
-                render::write_png(file, renderer.read_window());
+                write_output(file, render::encode_png(renderer.read_window()));
                 std::printf("view: screenshot %s\n", file.string().c_str());
                 std::fflush(stdout);
             } catch (const std::exception& e) {
@@ -427,7 +428,8 @@ ViewResult run_viewer(const SceneDef& scene, const std::vector<Override>& overri
             }
             viewer.screenshot_now = false;
         }
-        if (done && !options.screenshot.empty()) render::write_png(options.screenshot, renderer.read_window());
+        if (done && !options.screenshot.empty())
+            write_output(options.screenshot, render::encode_png(renderer.read_window()));
         const auto swap_start = Clock::now();
         context->swap_buffers();
         parts.lap(&ViewFrameParts::swap);

@@ -9,6 +9,7 @@
 // frames (the video decoded back to raw frames and encoded again with the
 // same command, timed in the same run). Issue 21's target: vs_encoder >= 0.4
 // for the showcase at 1280x720.
+#include "scenes/common/child_process.h"
 #include "scenes/common/interrupt.h"
 #include "scenes/model/scene.h"
 #include "scenes/video/video.h"
@@ -65,21 +66,21 @@ void video(benchmark::State& state, const std::string& scene_name, std::vector<s
     }
     // The reference: ffmpeg alone, encoding the same frames from a file.
     const fs::path raw = dir / "frames.rgb";
-    const std::string decode = "ffmpeg -nostdin -loglevel error -y -i '" + o.output.string() +
-                               "' -f rawvideo -pix_fmt rgb24 '" + raw.string() + "'";
-    if (std::system(decode.c_str()) != 0) {
+    const std::vector<std::string> decode = {"ffmpeg",   "-nostdin", "-loglevel",       "error",
+                                             "-y",       "-i",       o.output.string(), "-f",
+                                             "rawvideo", "-pix_fmt", "rgb24",           raw.string()};
+    if (scenes::ChildProcess(decode, {}).wait() != 0) {
         state.SkipWithError("cannot decode the video back to raw frames");
         fs::remove_all(dir);
         return;
     }
     const auto raw_frames =
         static_cast<double>(fs::file_size(raw) / (3 * static_cast<std::uintmax_t>(o.width * o.height)));
-    const std::string encode =
-        "< '" + raw.string() + "' " + scenes::ffmpeg_command(o, 3, dir / "alone.mp4", dir / "alone.log");
+    const std::vector<std::string> encode = scenes::ffmpeg_arguments(o, 3, dir / "alone.mp4");
     double alone = 1e300;  // s, the best of three (of one for a clip of a second: the smoke test's)
     for (int r = 0; r < (o.seconds > 1.0 ? 3 : 1); ++r) {
         const auto start = std::chrono::steady_clock::now();
-        if (std::system(encode.c_str()) != 0) {
+        if (scenes::ChildProcess(encode, {.input = raw, .errors = dir / "alone.log"}).wait() != 0) {
             state.SkipWithError("ffmpeg alone failed on the decoded frames");
             fs::remove_all(dir);
             return;

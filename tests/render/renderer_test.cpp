@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
 #include <tuple>
@@ -24,6 +25,9 @@ namespace render {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A result worth looking at, as a PNG (tests write it plainly).
+void save_png(const fs::path& path, const Image& image) { std::ofstream(path, std::ios::binary) << encode_png(image); }
 
 // Where the test leaves its pictures: $PLAUSIBLE_TEST_RESULTS/render.
 fs::path results_dir() {
@@ -446,7 +450,7 @@ TEST(RendererHelper, WriteLectureFrame) {
     Renderer renderer(*context);
     DrawList list = testing::lecture_scene();
     testing::place_plot(list, 320, 240);
-    write_png(out, renderer.render(list, {.width = 320, .height = 240, .msaa_samples = 4}));
+    save_png(out, renderer.render(list, {.width = 320, .height = 240, .msaa_samples = 4}));
 }
 
 TEST(RendererThreads, FrameBytesDoNotDependOnThreadCount) {
@@ -478,13 +482,13 @@ TEST_F(RendererTest, LectureSceneThroughOsmesaAndEgl) {
     const RenderSettings settings{.width = w, .height = h, .msaa_samples = 4};
     const Image osmesa = renderer_->render(list, settings);
     const fs::path png = results_dir() / "lecture_osmesa.png";
-    write_png(png, osmesa);
+    save_png(png, osmesa);
     EXPECT_EQ(read_png(png, 3).pixels, osmesa.pixels) << png;
     const RenderSettings golden{.width = 320, .height = 240};
     DrawList small = testing::lecture_scene();
     testing::place_plot(small, 320, 240);
     small.plots.clear();
-    write_png(results_dir() / "lecture_osmesa_320x240_nomsaa.png", renderer_->render(small, golden));
+    save_png(results_dir() / "lecture_osmesa_320x240_nomsaa.png", renderer_->render(small, golden));
 
     std::unique_ptr<GlContext> egl;
     try {
@@ -504,7 +508,7 @@ TEST_F(RendererTest, LectureSceneThroughOsmesaAndEgl) {
         std::printf("EGL vs OSMesa %dx%d MSAA %d: max channel difference %d, %.4f%% of pixels over 3 levels\n", s.width,
                     s.height, s.msaa_samples, diff.max_channel_diff, 100.0 * diff.share_over);
     }
-    write_png(results_dir() / "lecture_egl.png", egl_renderer.render(list, settings));
+    save_png(results_dir() / "lecture_egl.png", egl_renderer.render(list, settings));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // its exit status; and a temporary folder of the test's own.
 #pragma once
 
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,9 @@
 #include <filesystem>
 #include <string>
 #include <system_error>
+#include <vector>
+
+extern char** environ;
 
 namespace test {
 
@@ -26,6 +30,36 @@ inline Ran shell(const std::string& command) {
     for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.out.append(buf, n);
     const int status = pclose(p);
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+// The same for a program and its arguments, no shell between (paths with
+// quotes, spaces or newlines reach it as they are); `status` is 128 + the
+// signal for a program killed by one.
+inline Ran run(const std::vector<std::string>& argv) {
+    Ran r;
+    int ends[2];
+    if (pipe(ends) != 0) return r;
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", 0, 0);
+    posix_spawn_file_actions_adddup2(&actions, ends[1], 1);
+    posix_spawn_file_actions_adddup2(&actions, ends[1], 2);
+    posix_spawn_file_actions_addclose(&actions, ends[0]);
+    std::vector<char*> args;
+    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    pid_t pid = -1;
+    const int error = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    close(ends[1]);
+    char buf[4096];
+    for (ssize_t n; error == 0 && (n = read(ends[0], buf, sizeof buf)) > 0;)
+        r.out.append(buf, static_cast<std::size_t>(n));
+    close(ends[0]);
+    int status = 0;
+    if (error != 0 || waitpid(pid, &status, 0) < 0) return r;
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return r;
 }
 

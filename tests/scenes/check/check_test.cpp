@@ -128,7 +128,7 @@ void tamper(const fs::path& png, int side = 40) {
             p[2] = 0;
         }
     }
-    render::write_png(png, image);
+    std::ofstream(png, std::ios::binary) << render::encode_png(image);
 }
 
 json read_json(const fs::path& file) {
