@@ -69,6 +69,7 @@ void apply_override(toml::table& root, const Override& o, Reader& reader) {
         } else if (next == nullptr) {
             table->insert(name, toml::table{});
             next = table->get(name);
+            reader.mark_override(next, text);  // a table made by --set: its errors name --set too
         }
         if (!next->is_table()) fail(quote(so_far) + " is not a table");
         table = next->as_table();

@@ -144,6 +144,20 @@ TEST(ExitCodes, ShardsPastAnIntAreRefused) {
     }
 }
 
+TEST(ExitCodes, SetErrorsNameSetNotTheFile) {
+    const test::Ran r = test::run({kExe, "run", "rope", "--set", "nosuch.key=3"});
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("--set nosuch.key=3: unknown key 'nosuch'"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("rope.toml"), std::string::npos) << r.out;
+}
+
+TEST(ExitCodes, ABackendThatIsNotHereIsBadInputNotAFailure) {
+    const test::TempDir dir("hostile-backend");
+    const test::Ran r =
+        test::run({kExe, "render", "rope", "--backend", "gpu", "--frames", "0", "--size", "64x48", "--out", dir.path()});
+    EXPECT_TRUE(r.status == 0 || r.status == 2) << "0 with a GPU, 2 without: " << r.status << " " << r.out;
+}
+
 TEST(ExitCodes, ASetValueOfTwoLinesIsRefusedNamingSet) {
     const test::Ran r = test::run({kExe, "run", "rope", "--set", "ropes[0].mass=2\nstep.dt = 0.5"});
     EXPECT_EQ(r.status, 2) << r.out;
