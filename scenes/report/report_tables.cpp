@@ -218,6 +218,7 @@ std::string fmt(const char* format, double v) {
 void write_file(const fs::path& path, const std::string& text) {
     std::ofstream f(path, std::ios::binary);
     f << text;
+    f.close();  // the last bytes are written here: a full disk shows here
     if (!f) throw sim::InputError("report: cannot write " + path.string());
 }
 

@@ -182,9 +182,9 @@ TEST_F(Interrupt, SigtermDuringAReportEndsItByTheSignalAndLeavesNoFolder) {
     expect_nothing_written();
 }
 
-// The report's plots come last, from gnuplot through system(), which ignores
-// Ctrl+C in the caller while the child runs: the command learns of it from
-// gnuplot's status (before, it failed with "gnuplot failed", exit 2).
+// The report's plots come last, from gnuplot, in our process group: a
+// Ctrl+C reaches both, and the command learns of it from gnuplot's status or
+// its own handler, whichever comes first (not "gnuplot failed", exit 2).
 TEST_F(Interrupt, CtrlCToTheReportsProcessGroupWhilePlottingLeavesNoFolder) {
     const fs::path out_dir = dir_ / "out";
     const Ended e = interrupt({"report", "--quick", "--out", out("report")}, SIGINT, true, [out_dir] {
