@@ -68,7 +68,9 @@ Command add_view(CLI::App& app) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand(
         "view", "Run a scene in a window: pause, step, step back, drag things, change integrator and dt live");
-    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
+    cmd->add_option("scene", args->scene.scene,
+                    "Scene name, .toml path or recording (run --record; a regular file of at most 128 MiB)")
+        ->required();
     args->scene.add_to(cmd);
     cmd->add_option("--size", args->size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
     cmd->add_option("--msaa", args->options.msaa_samples,
