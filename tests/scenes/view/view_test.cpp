@@ -122,7 +122,10 @@ TEST_F(View, ABadInputScriptExits2NamingItsLine) {
          {std::pair{"1 key Right\n0 key Left\n", ":2: a line starts with the frame"},
           std::pair{"3 key Right\n2 key Left\n", ":2: frame 2 comes after frame 3"},
           std::pair{"1 key F13\n", ":1: no key 'F13'"}, std::pair{"1 press thumb\n", ":1: press needs left"},
-          std::pair{"1 move 10\n", ":1: move needs X Y"}, std::pair{"1 jump\n", ":1: no event 'jump'"}}) {
+          std::pair{"1 move 10\n", ":1: move needs X Y"}, std::pair{"1 jump\n", ":1: no event 'jump'"},
+          // Found by tools/fuzz/fuzz_input_script: NaN passed the frame's range test, then became an int.
+          std::pair{"nan key Right\n", ":1: a line starts with the frame"},
+          std::pair{"1 move nan inf\n", ":1: move needs X Y"}}) {
         std::ofstream(dir_ / "bad.txt") << line;
         const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input " + (dir_ / "bad.txt").string());
         EXPECT_EQ(r.status, 2) << line << r.out;
