@@ -225,6 +225,19 @@ TEST_F(Record, ALongRunsRecordingStaysWithinItsStatedBound) {
     EXPECT_NE(help.out.find("8 bytes a"), std::string::npos) << help.out;
 }
 
+TEST_F(Record, StatesThatGrowAfterFrame0AreThinnedToStayWithinTheBound) {
+    // velocity_verlet keeps two accelerations from frame 1 on: frame 0's
+    // state, which K is chosen from, is the smallest. The recorder doubles K
+    // (keeping every other state) rather than exceed the 2 MB of states.
+    const int frames = 2000;
+    const test::Ran run = plausible("run cloth --integrator velocity_verlet --frames 2000 --record c.rec");
+    ASSERT_EQ(run.status, 0) << run.out;
+    EXPECT_LE(fs::file_size(dir_ / "c.rec"), 2'000'000u + 8u * (frames + 1) + 65'536u) << run.out;
+    const test::Ran replay = plausible("run c.rec");
+    EXPECT_EQ(replay.status, 0) << replay.out;
+    EXPECT_NE(replay.out.find("frames 0 .. 2000 of its 2000 identical"), std::string::npos) << replay.out;
+}
+
 TEST_F(Record, ARunWhoseRecordingWouldBeTooLargeIsRefusedBeforeItRuns) {
     // A million particles (a 64 MB state) for the most frames a scene runs
     // (8 bytes each): over 128 MiB, refused before the first step.
