@@ -98,7 +98,7 @@ TEST_F(Record, ARecordingReplaysToTheSameHashesAndPixels) {
     // The showcase, whole: ragdolls (ODE), a cloth, a rope, an emitter, collisions.
     ASSERT_EQ(plausible("run showcase --record s.rec").status, 0);
     const std::uintmax_t size = fs::file_size(dir_ / "s.rec");
-    EXPECT_LT(size, 4'000'000u) << "a few MB";
+    EXPECT_LE(size, 2'000'000u + 8u * 361 + 65'536u) << "states within 2 MB, 8 bytes a frame, the scene";
     const test::Ran run = plausible("run s.rec");
     EXPECT_EQ(run.status, 0) << run.out;
     EXPECT_NE(run.out.find("frames 0 .. 360 of its 360 identical"), std::string::npos) << run.out;
