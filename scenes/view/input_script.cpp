@@ -51,6 +51,17 @@ bool number(const std::string& word, double& value) {
 }  // namespace
 
 std::vector<InputEvent> read_input_script(const std::filesystem::path& file) {
+    // Checked by stat before opening: a FIFO would block the open, a device never end.
+    constexpr std::uintmax_t kMaxBytes = 16u << 20;  // as a scene file
+    std::error_code error;
+    const auto status = std::filesystem::status(file, error);
+    if (!error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+        throw sim::InputError("view: --input " + file.string() + ": not a regular file");
+    }
+    if (const auto size = std::filesystem::file_size(file, error); !error && size > kMaxBytes) {
+        throw sim::InputError("view: --input " + file.string() + ": " + std::to_string(size) +
+                              " bytes is too large for an input script (at most 16 MiB)");
+    }
     std::ifstream in(file);
     if (!in) throw sim::InputError("view: --input " + file.string() + ": cannot read it");
     return parse_input_script(in, file.string());

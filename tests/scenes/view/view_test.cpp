@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -134,6 +135,14 @@ TEST_F(View, ABadInputScriptExits2NamingItsLine) {
     const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input /no/such/script.txt");
     EXPECT_EQ(r.status, 2) << r.out;
     EXPECT_NE(r.out.find("/no/such/script.txt: cannot read it"), std::string::npos) << r.out;
+    // A device that never ends and a FIFO with no writer: refused, not read
+    // or waited on (timeout: a wait would be a hang, not a pass).
+    ASSERT_EQ(mkfifo((dir_ / "fifo.txt").c_str(), 0600), 0);
+    for (const std::string& script : {std::string("/dev/zero"), (dir_ / "fifo.txt").string()}) {
+        const Ran s = shell("env -u DISPLAY timeout 60 " PLAUSIBLE_EXE " view pendulum --input " + script);
+        EXPECT_EQ(s.status, 2) << script << ": " << s.out;
+        EXPECT_NE(s.out.find(script + ": not a regular file"), std::string::npos) << s.out;
+    }
 }
 
 // --exit-after N steps one scene frame per window frame: the last one is the
