@@ -89,7 +89,7 @@ Command add_view(CLI::App& app) {
     cmd->add_option("--input", args->options.input,
                     "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
                     "Right', '5 move @Scene parameters', '6 press left'; see scenes/view/input_script.h); the "
-                    "scene then steps once per drawn frame while running");
+                    "scene then steps once per drawn frame while running. A regular file of at most 16 MiB");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
                   "and print the means on exit, then the running frames' spread swap to swap (median, 95th percentile, "
