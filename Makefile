@@ -65,10 +65,11 @@ check-clang: deps
 	cmake --build --preset clang -j $(JOBS)
 	build-clang/plausible check --report build-clang/check
 
-# The scene loader's fuzzer (tools/fuzz): built with clang, ASan and UBSan
-# into build-fuzz/, run for FUZZ_SECONDS on the shipped and the malformed
-# scenes; what it finds lands in build-fuzz/findings/. make test runs it for
-# 45 s (the test fuzz.smoke, in build/fuzz).
+# The fuzzers (tools/fuzz: the scene loader, the recording reader, the
+# viewer's input scripts): built with clang, ASan and UBSan into build-fuzz/,
+# run for FUZZ_SECONDS in all on their seeds; what they find lands in
+# build-fuzz/findings/. make test runs them for 45 s (the test fuzz.smoke, in
+# build/fuzz).
 FUZZ_SECONDS := 600
 fuzz: deps
 	FUZZ_JOBS=$(JOBS) sh tools/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz

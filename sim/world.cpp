@@ -241,6 +241,17 @@ void World::restore(const Snapshot& snapshot) {
         throw InputError("snapshot has " + std::to_string(snapshot.state.size()) + " particles, the world has " +
                          std::to_string(state_.size()));
     }
+    // The rest checked before anything changes (a snapshot read from a file may be anything).
+    const std::size_t n = state_.size();
+    std::size_t plastic = 0;
+    for (const auto& rest : rest0_) plastic += rest.size();
+    if (snapshot.state.x.size() != n || snapshot.state.v.size() != n || snapshot.state.inv_mass.size() != n ||
+        snapshot.plastic_rest.size() != plastic ||
+        snapshot.bodies.size() != (rigid_ ? rigid_->bodies().size() : std::size_t{0})) {
+        throw InputError("snapshot's arrays do not fit the world (" + std::to_string(n) + " particles, " +
+                         std::to_string(plastic) + " plastic springs, " +
+                         std::to_string(rigid_ ? rigid_->bodies().size() : 0) + " rigid bodies)");
+    }
     state_ = snapshot.state;
     prepared_.info = nullptr;
     forces_.masses_changed();
@@ -260,7 +271,7 @@ void World::restore(const Snapshot& snapshot) {
     std::size_t next = 0;
     for (std::size_t k = 0; k < live_forces_.size(); ++k) {
         if (rest0_[k].empty()) continue;
-        for (Spring& sp : std::get<Springs>(live_forces_[k]).list) sp.rest = snapshot.plastic_rest.at(next++);
+        for (Spring& sp : std::get<Springs>(live_forces_[k]).list) sp.rest = snapshot.plastic_rest[next++];
     }
 }
 

@@ -225,7 +225,8 @@ public:
         std::uint64_t rigid_steps = 0;
     };
     Snapshot snapshot() const;
-    // Throws InputError when the snapshot is of another model (particle count).
+    // Throws InputError, the world unchanged, when the snapshot is of another
+    // model (its particles, plastic springs or rigid bodies do not fit).
     void restore(const Snapshot& snapshot);
 
     // The force generators' net force on each particle now, N (n): what force

@@ -116,7 +116,8 @@ int check(const CheckArgs& a) {
 Command add_check(CLI::App& app) {
     auto args = std::make_shared<CheckArgs>();
     CLI::App* cmd = app.add_subcommand("check", "Compare scenes' checkpoint frames with their golden images");
-    cmd->add_option("scenes", args->scenes, "Scenes to check (default: all)");
+    cmd->add_option("scenes", args->scenes,
+                    "Scenes to check (default: all): names, .toml paths or recordings (run --record; at most 128 MiB)");
     args->options.add_to(cmd);
     cmd->add_option("--update", args->update, "Write goldens: none, missing, changed or all")->capture_default_str();
     cmd->add_option("--golden", args->golden,

@@ -109,7 +109,9 @@ int render_scene(const RenderArgs& r) {
 Command add_render(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
     CLI::App* cmd = app.add_subcommand("render", "Render frames of a scene to PNG, and a contact sheet");
-    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
+    cmd->add_option("scene", args->scene.scene,
+                    "Scene name, .toml path or recording (run --record; a regular file of at most 128 MiB)")
+        ->required();
     args->scene.add_to(cmd, false);  // --frames here: the frames to draw
     cmd->add_option("--frames", args->frames,
                     "Frames to render, e.g. 0,30,60 (default: the checkpoints; the scene runs to the last)");

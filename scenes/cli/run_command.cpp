@@ -252,16 +252,28 @@ int run_scene(const RunArgs& args) {
     std::optional<CsvWriter> csv;
     if (args.csv) interrupts.emplace(), csv.emplace(*args.csv, !scene.model.rigid.bodies.empty());
     std::optional<RunRecorder> recorder;
-    if (args.record) check_output(*args.record), recorder.emplace(scene, scene.frames);  // refused before the run
+    // Refused before the run: a path that cannot be written, a run too long to record.
+    if (args.record) check_output(*args.record), recorder.emplace(run, scene.frames);
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr, recorder ? &*recorder : nullptr);
     if (csv) csv->commit();
-    if (recorder) write_recording(*args.record, recorder->recording());
+    std::string recorded;  // what was written, and its size
+    if (recorder) {
+        const Recording& rec = recorder->recording();
+        write_recording(*args.record, rec);
+        char text[64];
+        std::snprintf(text, sizeof text, "%.2f MiB", static_cast<double>(fs::file_size(*args.record)) / (1 << 20));
+        recorded = "recorded " + *args.record + ": " + std::to_string(rec.frames) + " frames, " +
+                   std::to_string(rec.states.size()) + " states (every " +
+                   (rec.every == 1 ? std::string("frame") : std::to_string(rec.every) + " frames") + "), " + text;
+    }
     const Summary summary{
         scene, run, energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run)};
     if (args.json) {
         print_json(summary);
+        if (!recorded.empty()) std::fprintf(stderr, "%s\n", recorded.c_str());  // stdout is the JSON
     } else {
         print_text(summary);
+        if (!recorded.empty()) std::printf("%s\n", recorded.c_str());
     }
     const int replay = report_replay(scene, run.diverged_frame(), run.frame());
     return run.verdict().exploded() ? kExitFailed : replay;
@@ -273,7 +285,8 @@ Command add_run(CLI::App& app) {
     auto args = std::make_shared<RunArgs>();
     CLI::App* run = app.add_subcommand("run", "Run a scene headless and print a summary");
     run->add_option("scene", args->scene.scene,
-                    "Scene name (see `plausible list`), path of a .toml file, or a recording (--record)")
+                    "Scene name (see `plausible list`), path of a .toml file, or a recording (--record; a regular file "
+                    "of at most 128 MiB)")
         ->required();
     args->scene.add_to(run);
     run->add_option("--csv", args->csv,
@@ -282,9 +295,12 @@ Command add_run(CLI::App& app) {
                     "orientation (unit quaternion, body to world) and angular velocity (rad/s, world frame), "
                     "empty on particle rows");
     run->add_option("--record", args->record,
-                    "Write the run as a recording: the scene, the state hash after every frame and the state "
-                    "every K frames (a few MB at most); render, video, view, check and run take it as a scene and "
-                    "replay it, reporting the first frame whose state differs (exit 1)");
+                    "Write the run as a recording: the scene, the state hash after every frame (8 bytes a "
+                    "frame) and the state every K frames (K grows with the run: the states stay within 2 MB, "
+                    "or are the first alone where it is larger); it says its size when written. At most 128 "
+                    "MiB: a run whose recording could be larger is refused before it runs (exit 2). render, "
+                    "video, view, check and run take it as a scene and replay it, reporting the first frame "
+                    "whose state differs (exit 1)");
     run->add_flag("--json", args->json,
                   "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
                   "of frames (the second, then enough to keep the clocks under 1% of the frames' time; null "

@@ -50,7 +50,9 @@ int video(VideoArgs& a) {
 Command add_video(CLI::App& app) {
     auto args = std::make_shared<VideoArgs>();
     CLI::App* cmd = app.add_subcommand("video", "Render a scene to MP4 (H.264) or GIF through ffmpeg");
-    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
+    cmd->add_option("scene", args->scene.scene,
+                    "Scene name, .toml path or recording (run --record; a regular file of at most 128 MiB)")
+        ->required();
     args->scene.add_to(cmd);
     cmd->add_option("-o,--output", args->out, "FILE.mp4 or FILE.gif (written whole or not at all)")->required();
     cmd->add_option("--size", args->size, "Width x height, even, px")->capture_default_str();

@@ -68,7 +68,9 @@ Command add_view(CLI::App& app) {
     auto args = std::make_shared<ViewArgs>();
     CLI::App* cmd = app.add_subcommand(
         "view", "Run a scene in a window: pause, step, step back, drag things, change integrator and dt live");
-    cmd->add_option("scene", args->scene.scene, "Scene name, .toml path or recording (run --record)")->required();
+    cmd->add_option("scene", args->scene.scene,
+                    "Scene name, .toml path or recording (run --record; a regular file of at most 128 MiB)")
+        ->required();
     args->scene.add_to(cmd);
     cmd->add_option("--size", args->size, "Window size WIDTHxHEIGHT, px")->capture_default_str();
     cmd->add_option("--msaa", args->options.msaa_samples,
@@ -87,7 +89,7 @@ Command add_view(CLI::App& app) {
     cmd->add_option("--input", args->options.input,
                     "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
                     "Right', '5 move @Scene parameters', '6 press left'; see scenes/view/input_script.h); the "
-                    "scene then steps once per drawn frame while running");
+                    "scene then steps once per drawn frame while running. A regular file of at most 16 MiB");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
                   "and print the means on exit, then the running frames' spread swap to swap (median, 95th percentile, "

@@ -10,8 +10,10 @@ namespace scenes {
 
 class RunRecorder {
 public:
-    // `frames`: the frames the run will take (for how often to store a state).
-    RunRecorder(const SceneDef& scene, int frames);
+    // `run` at frame 0; `frames`: the frames it will take (for how often to
+    // store a state). InputError, before anything runs, when the recording
+    // could be larger than kMaxRecordingBytes.
+    RunRecorder(const SceneRun& run, int frames);
     // After each frame the run reaches, frame 0 first.
     void frame(const SceneRun& run);
     // The recording so far, to the frame the run is at.
@@ -19,7 +21,7 @@ public:
 
 private:
     Recording rec_;
-    int frames_ = 0;
+    std::size_t state_bytes_ = 0;  // the stored states' sections
 };
 
 // The scene run from frame 0 to `frames` (or the watchdog's stop), recorded.

@@ -8,13 +8,17 @@
 #include "sim/integrators.h"
 #include "sim/state_hash.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 
 namespace scenes {
 namespace {
@@ -138,9 +142,13 @@ public:
     }
     int i32() { return static_cast<int>(u32()); }
     double f64() { return std::bit_cast<double>(u64()); }
-    std::size_t count(std::uint64_t most = kMaxCount) {
+    // A count of items of at least `each` bytes that follow (so that it is
+    // never a reason to allocate more than the file holds).
+    std::size_t count(std::size_t each = 1) {
         const std::uint64_t n = u64();
-        if (n > most || n > (bytes_.size() - pos_)) fail("a count of " + std::to_string(n) + " is more than it holds");
+        if (n > kMaxCount || n > (bytes_.size() - pos_) / each) {
+            fail("a count of " + std::to_string(n) + " is more than it holds");
+        }
         return static_cast<std::size_t>(n);
     }
     std::string text() {
@@ -151,7 +159,7 @@ public:
         for (std::size_t i = 0; i < n; ++i) p[i] = f64();
     }
     sim::Vec3Array vec3s() {
-        sim::Vec3Array a(count());
+        sim::Vec3Array a(count(3 * sizeof(double)));
         for (double* c : a.span().c) doubles(c, a.size());
         return a;
     }
@@ -210,7 +218,7 @@ sim::World::Snapshot get_snapshot(Reader& r) {
     s.steps = r.u64(), s.frames = r.u64();
     s.initial_energy = r.f64();
     s.verdict = get_verdict(r);
-    s.plastic_rest.resize(r.count());
+    s.plastic_rest.resize(r.count(sizeof(double)));
     r.doubles(s.plastic_rest.data(), s.plastic_rest.size());
     for (std::size_t k = r.count(); k > 0; --k) {
         sim::World::Contained c;
@@ -240,19 +248,35 @@ std::uint64_t fnv(std::string_view bytes) {
 }  // namespace
 
 int recording_interval(int frames, std::size_t state_bytes) {
-    constexpr double kBudget = 2e6;  // bytes of stored states
-    constexpr int kMost = 60;        // frames apart at most (scrubbing steps fewer)
-    const double states = std::max(1.0, kBudget / static_cast<double>(std::max<std::size_t>(state_bytes, 1)));
-    return std::clamp(static_cast<int>(std::ceil(frames / states)), 1, kMost);
+    const std::size_t fit = std::max<std::size_t>(1, kRecordingStatesBytes / std::max<std::size_t>(state_bytes, 1));
+    // K = ceil((frames + 1) / fit): the multiples of K up to `frames` are at most `fit`.
+    const std::uint64_t k = (static_cast<std::uint64_t>(std::max(frames, 0)) + fit) / fit;
+    return static_cast<int>(std::max<std::uint64_t>(k, 1));
 }
 
 std::size_t snapshot_bytes(const sim::World::Snapshot& snapshot) {
     Writer w;
     put_snapshot(w, snapshot);
-    return w.bytes().size();
+    return 4 + 8 + 4 + w.bytes().size();  // tag, length, frame, snapshot
 }
 
-void write_recording(const fs::path& file, const Recording& rec) {
+std::uint64_t snapshot_hash(const sim::World::Snapshot& s, bool rigid) {
+    const std::uint64_t particles = sim::state_hash(s.state);
+    if (!rigid) return particles;
+    // RigidWorld::hash's order: position, linear and angular velocity, then the quaternion w, x, y, z.
+    sim::Fnv1a h;
+    for (const sim::BodyState& b : s.bodies) {
+        for (const Eigen::Vector3d* v : {&b.position, &b.velocity, &b.angular_velocity}) {
+            for (int k = 0; k < 3; ++k) h.add((*v)[k]);
+        }
+        h.add(b.orientation.w()), h.add(b.orientation.x()), h.add(b.orientation.y()), h.add(b.orientation.z());
+    }
+    return sim::fold_hashes(particles, h.value());
+}
+
+namespace {
+
+Writer serialize(const Recording& rec) {
     Writer out;
     out.raw(std::string_view(kMagic, sizeof kMagic));
     out.u32(Recording::kVersion);
@@ -278,21 +302,75 @@ void write_recording(const fs::path& file, const Recording& rec) {
     Writer end;
     end.u64(fnv(out.bytes()));
     out.section("END ", end);
+    return out;
+}
 
+std::string mebibytes(std::uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+    return text;
+}
+
+}  // namespace
+
+std::uint64_t recording_bytes_without_states(const Recording& recording, int frames) {
+    Recording bare = recording;
+    bare.hashes.clear(), bare.states.clear();
+    return serialize(bare).bytes().size() + 8 * (static_cast<std::uint64_t>(std::max(frames, 0)) + 1);
+}
+
+void write_recording(const fs::path& file, const Recording& rec) {
+    const Writer out = serialize(rec);
+    if (out.bytes().size() > kMaxRecordingBytes) {
+        throw sim::InputError("--record: " + file.string() + " would take " + mebibytes(out.bytes().size()) +
+                              ", more than a recording may (" + mebibytes(kMaxRecordingBytes) + ")");
+    }
     write_output(file, std::string_view(out.bytes().data(), out.bytes().size()));
 }
 
-bool is_recording(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    char head[8] = {};
-    return in.read(head, 8) && std::memcmp(head, kMagic, 8) == 0;
+namespace {
+
+// A file descriptor, closed when it goes.
+struct OpenFile {
+    int fd = -1;
+    std::uint64_t size = 0;  // bytes, when it was opened
+    OpenFile() = default;
+    OpenFile(const OpenFile&) = delete;
+    OpenFile& operator=(const OpenFile&) = delete;
+    ~OpenFile() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+// Opens a regular file for reading; O_NONBLOCK so that a FIFO with no writer
+// is refused, not waited on. Empty message: opened.
+std::string open_regular(const fs::path& path, OpenFile& f) {
+    f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (f.fd < 0) return std::string("cannot read the recording (") + std::strerror(errno) + ")";
+    struct stat st {};
+    if (::fstat(f.fd, &st) != 0) return std::string("cannot read the recording (") + std::strerror(errno) + ")";
+    if (!S_ISREG(st.st_mode)) return "not a regular file (a recording is a file `run --record` wrote)";
+    f.size = static_cast<std::uint64_t>(st.st_size);
+    return {};
 }
 
-Recording read_recording(const fs::path& path) {
-    const std::string file = path.string();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw sim::InputError(file + ": cannot read the recording");
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// Reads up to `n` bytes onto the end of `out`; fewer only at the file's end.
+void read_some(const OpenFile& f, std::string& out, std::size_t n, const std::string& file) {
+    const std::size_t start = out.size();
+    out.resize(start + n);
+    std::size_t got = 0;
+    while (got < n) {
+        const ssize_t r = ::read(f.fd, out.data() + start + got, n - got);
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) throw sim::InputError(file + ": cannot read the recording (" + std::strerror(errno) + ")");
+        if (r == 0) break;
+        got += static_cast<std::size_t>(r);
+    }
+    out.resize(start + got);
+}
+
+// The magic, the version and the byte order (the first 16 bytes).
+void check_header(std::string_view bytes, const std::string& file) {
     Reader head(file, bytes, 0, "its header");
     if (head.take(8) != std::string_view(kMagic, 8)) {
         throw sim::InputError(file +
@@ -305,16 +383,48 @@ Recording read_recording(const fs::path& path) {
                               ", and this build reads version " + std::to_string(Recording::kVersion));
     }
     if (head.u32() != kByteOrder) head.fail("its byte-order mark is wrong");
+}
+
+constexpr std::size_t kHeaderBytes = 16;
+
+}  // namespace
+
+bool is_recording(const fs::path& file) {
+    OpenFile f;
+    if (!open_regular(file, f).empty()) return false;
+    std::string head;
+    read_some(f, head, sizeof kMagic, file.string());
+    return head == std::string_view(kMagic, sizeof kMagic);
+}
+
+Recording read_recording(const fs::path& path) {
+    const std::string file = path.string();
+    OpenFile f;
+    if (const std::string why = open_regular(path, f); !why.empty()) throw sim::InputError(file + ": " + why);
+    std::string bytes;
+    read_some(f, bytes, kHeaderBytes, file);
+    check_header(bytes, file);
+    if (f.size > kMaxRecordingBytes) {
+        throw sim::InputError(file + ": " + std::to_string(f.size) + " bytes is too large for a recording (at most " +
+                              mebibytes(kMaxRecordingBytes) + ")");
+    }
+    if (f.size > bytes.size()) read_some(f, bytes, static_cast<std::size_t>(f.size - bytes.size()), file);
+    return parse_recording(bytes, file);
+}
+
+Recording parse_recording(std::string_view bytes, const std::string& file) {
+    check_header(bytes, file);
     Recording rec;
     bool scene = false, step = false, hashes = false;
-    for (std::size_t pos = 16;;) {
-        Reader section(file, std::string_view(bytes).substr(pos), pos, "a section's header");
+    std::vector<std::size_t> state_at;  // where each STAT section starts
+    for (std::size_t pos = kHeaderBytes;;) {
+        Reader section(file, bytes.substr(pos), pos, "a section's header");
         const std::string tag(section.take(4));
         const std::size_t length = section.count();
         const std::size_t start = pos + 12;
-        Reader r(file, std::string_view(bytes).substr(start, length), start, "section " + tag);
+        Reader r(file, bytes.substr(start, length), start, "section " + tag);
         if (tag == "END ") {
-            if (r.u64() != fnv(std::string_view(bytes).substr(0, pos))) r.fail("its checksum differs (corrupted?)");
+            if (r.u64() != fnv(bytes.substr(0, pos))) r.fail("its checksum differs (corrupted?)");
             if (start + length != bytes.size()) r.fail("bytes follow its end");
             break;
         }
@@ -332,11 +442,13 @@ Recording read_recording(const fs::path& path) {
             if (rec.frames < 0 || rec.every < 1) r.fail("frames or K out of range");
             step = true;
         } else if (tag == "HASH") {
+            rec.hashes.reserve(length / 8);
             while (!r.done()) rec.hashes.push_back(r.u64());
             hashes = true;
         } else if (tag == "STAT") {
             const int frame = r.i32();
             rec.states.emplace_back(frame, get_snapshot(r));
+            state_at.push_back(pos);
         } else {
             r.fail("an unknown section '" + tag + "'");
         }
@@ -347,6 +459,20 @@ Recording read_recording(const fs::path& path) {
     if (!scene || !step || !hashes) whole.fail("a section is missing (SCNE, STEP and HASH are required)");
     if (rec.hashes.size() != static_cast<std::size_t>(rec.frames) + 1) {
         whole.fail(std::to_string(rec.hashes.size()) + " frame hashes for " + std::to_string(rec.frames) + " frames");
+    }
+    // Each stored state against its frame's recorded hash: the viewer's seek
+    // starts from one, so an edited one must not read as the recorded run.
+    for (std::size_t k = 0; k < rec.states.size(); ++k) {
+        const auto& [frame, state] = rec.states[k];
+        Reader at(file, bytes.substr(state_at[k]), state_at[k], "section STAT of frame " + std::to_string(frame));
+        if (frame < 0 || frame > rec.frames || (k > 0 && frame <= rec.states[k - 1].first)) {
+            at.fail("its frame is out of order or beyond the " + std::to_string(rec.frames) + " recorded");
+        }
+        const std::uint64_t want = rec.hashes[static_cast<std::size_t>(frame)];
+        // No bodies: the World may still have a rigid world (its bodies removed), whose hash is folded in.
+        const bool same = snapshot_hash(state, !state.bodies.empty()) == want ||
+                          (state.bodies.empty() && snapshot_hash(state, true) == want);
+        if (!same) at.fail("the stored state is not the one the frame's recorded state hash says (edited?)");
     }
     return rec;
 }

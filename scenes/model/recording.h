@@ -20,8 +20,10 @@
 //     HASH  frames + 1 u64: the state hash after each frame, frame 0 first
 //     STAT  one per stored state: i32 frame, then the World's snapshot
 //     END   u64: FNV-1a of every byte before this section
-// A truncated, corrupted or foreign file, or one of another version, is
-// refused with an InputError naming the file and what is wrong.
+// A truncated, corrupted or foreign file, one of another version, one larger
+// than kMaxRecordingBytes, or a stored state that does not hash to its
+// frame's recorded hash, is refused with an InputError naming the file and
+// what is wrong.
 #pragma once
 
 #include "scenes/model/scene.h"
@@ -31,6 +33,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -58,20 +61,41 @@ struct Recording {
     std::vector<std::pair<int, sim::World::Snapshot>> states;  // (frame, the World then), ascending
 };
 
-// The frames between stored states for a run of `frames` frames whose state
-// takes `state_bytes`: the states together stay within about 4 MB (a 10 s
-// showcase: about 2 MB), and at most 60 frames apart for scrubbing.
+// Bytes the stored states of a recording stay within (RunRecorder), unless
+// the state at frame 0 alone is larger: then it is the only one stored.
+constexpr std::size_t kRecordingStatesBytes = 2'000'000;
+// The largest recording read, and so the largest `run --record` writes
+// (it refuses a longer run before running): 8 bytes a frame for the most
+// frames a scene runs, a 16 MiB scene file and the states, with room over.
+constexpr std::uint64_t kMaxRecordingBytes = 128ull << 20;
+
+// The frames between stored states for a run of `frames` frames whose stored
+// state takes `state_bytes`: states at 0, K, 2K, ... up to `frames` stay
+// within kRecordingStatesBytes (one state at least: frame 0's).
 int recording_interval(int frames, std::size_t state_bytes);
 
-// Bytes of a snapshot as the file stores it.
+// Bytes of a snapshot's STAT section as the file stores it (header included).
 std::size_t snapshot_bytes(const sim::World::Snapshot& snapshot);
+// Bytes of a recording with no states: header, SCNE, STEP, HASH, END.
+std::uint64_t recording_bytes_without_states(const Recording& recording, int frames);
+
+// The state hash (SceneRun::state_hash) of a World restored from the
+// snapshot: its particles' hash, folded with its rigid bodies' when
+// `rigid` (the World has a rigid world).
+std::uint64_t snapshot_hash(const sim::World::Snapshot& snapshot, bool rigid);
 
 // Writes atomically (a temporary file renamed into place: nothing
-// half-written). InputError when the folder cannot be written.
+// half-written). InputError when the folder cannot be written, or the
+// recording is larger than kMaxRecordingBytes.
 void write_recording(const std::filesystem::path& file, const Recording& recording);
-// Reads and validates (see the top of this file).
+// Reads and validates (see the top of this file). Only a regular file is
+// read (a FIFO or a device is refused, never waited on), its header is
+// checked before the rest is read, and its size before reading it.
 Recording read_recording(const std::filesystem::path& file);
-// Whether the file starts with the recording magic (a .toml never does).
+// The same over a file's bytes (`file` names it in messages).
+Recording parse_recording(std::string_view bytes, const std::string& file);
+// Whether the file is a regular file that starts with the recording magic
+// (a .toml never does); never blocks on a FIFO.
 bool is_recording(const std::filesystem::path& file);
 
 // The scene a recording ran: its text parsed with its overrides, and the

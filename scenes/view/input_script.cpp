@@ -6,6 +6,7 @@
 #include <GLFW/glfw3.h>
 
 #include <charconv>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -41,20 +42,36 @@ int button_code(const std::string& name) {
     return -1;
 }
 
+// A finite number, the whole word (from_chars takes "nan" and "inf").
 bool number(const std::string& word, double& value) {
     const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
-    return error == std::errc{} && end == word.data() + word.size();
+    return error == std::errc{} && end == word.data() + word.size() && std::isfinite(value);
 }
 
 }  // namespace
 
 std::vector<InputEvent> read_input_script(const std::filesystem::path& file) {
+    // Checked by stat before opening: a FIFO would block the open, a device never end.
+    constexpr std::uintmax_t kMaxBytes = 16u << 20;  // as a scene file
+    std::error_code error;
+    const auto status = std::filesystem::status(file, error);
+    if (!error && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+        throw sim::InputError("view: --input " + file.string() + ": not a regular file");
+    }
+    if (const auto size = std::filesystem::file_size(file, error); !error && size > kMaxBytes) {
+        throw sim::InputError("view: --input " + file.string() + ": " + std::to_string(size) +
+                              " bytes is too large for an input script (at most 16 MiB)");
+    }
     std::ifstream in(file);
     if (!in) throw sim::InputError("view: --input " + file.string() + ": cannot read it");
+    return parse_input_script(in, file.string());
+}
+
+std::vector<InputEvent> parse_input_script(std::istream& in, const std::string& file) {
     std::vector<InputEvent> events;
     std::string line;
     for (int number_of_line = 1; std::getline(in, line); ++number_of_line) {
-        const std::string where = file.string() + ":" + std::to_string(number_of_line);
+        const std::string where = file + ":" + std::to_string(number_of_line);
         auto fail = [&](const std::string& what) { throw sim::InputError(where + ": " + what); };
         if (const auto hash = line.find('#'); hash != std::string::npos) line.erase(hash);
         std::istringstream words(line);

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,8 @@ struct InputEvent {
 
 // Reads a script; InputError naming the file, the line and what is wrong.
 std::vector<InputEvent> read_input_script(const std::filesystem::path& file);
+// The same over a script's text (`file` names it in messages): what the
+// fuzzer (tools/fuzz) drives, without a window.
+std::vector<InputEvent> parse_input_script(std::istream& in, const std::string& file);
 
 }  // namespace scenes::view

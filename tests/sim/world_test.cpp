@@ -586,6 +586,19 @@ TEST(Rewind, PlasticRestLengthsAndRigidBodiesAreRewoundToo) {
     }
     EXPECT_EQ(world.state().x.flat(), straight.state().x.flat());
     EXPECT_EQ(world.rigid()->hash(), straight.rigid()->hash());
+    // A snapshot whose plastic rest lengths or bodies do not fit (one read
+    // from an edited recording: these are not in the state hash) is refused
+    // with an InputError, the world unchanged.
+    for (int part = 0; part < 2; ++part) {
+        World::Snapshot bad = world.snapshot();
+        if (part == 0) bad.plastic_rest.pop_back();
+        if (part == 1) bad.bodies.push_back(bad.bodies.front());
+        bad.state.x.set(0, Vec3(9, 9, 9));
+        const std::vector<double> before = world.state().x.flat();
+        EXPECT_NE(error_of([&] { world.restore(bad); }).find("snapshot's arrays do not fit the world"),
+                  std::string::npos);
+        EXPECT_EQ(world.state().x.flat(), before) << "unchanged";
+    }
 }
 
 // The viewer's mouse spring. Hanging from it under gravity, a particle

@@ -10,9 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -64,6 +66,25 @@ std::string tampered(std::string b, int frame) {
     return b;
 }
 
+// The recording with one bit of stored state `which` (0: frame 0's) flipped:
+// its first particle's x (after the STAT payload's frame i32, t f64 and
+// the count u64), and the END checksum recomputed.
+std::string state_edited(std::string b, int which) {
+    for (std::size_t pos = 16; pos + 12 <= b.size();) {
+        const std::string tag = b.substr(pos, 4);
+        const std::uint64_t length = little_u64(b, pos + 4);
+        if (tag == "STAT" && which-- == 0) {
+            b[pos + 12 + 4 + 8 + 8] = static_cast<char>(b[pos + 12 + 4 + 8 + 8] ^ 1);
+        } else if (tag == "END ") {
+            put_little_u64(b, pos + 12, fnv1a(b, pos));
+            return b;
+        }
+        pos += 12 + length;
+    }
+    ADD_FAILURE() << "no END section";
+    return b;
+}
+
 class Record : public ::testing::Test {
 protected:
     test::Ran plausible(const std::string& args) const {
@@ -77,7 +98,7 @@ TEST_F(Record, ARecordingReplaysToTheSameHashesAndPixels) {
     // The showcase, whole: ragdolls (ODE), a cloth, a rope, an emitter, collisions.
     ASSERT_EQ(plausible("run showcase --record s.rec").status, 0);
     const std::uintmax_t size = fs::file_size(dir_ / "s.rec");
-    EXPECT_LT(size, 4'000'000u) << "a few MB";
+    EXPECT_LE(size, 2'000'000u + 8u * 361 + 65'536u) << "states within 2 MB, 8 bytes a frame, the scene";
     const test::Ran run = plausible("run s.rec");
     EXPECT_EQ(run.status, 0) << run.out;
     EXPECT_NE(run.out.find("frames 0 .. 360 of its 360 identical"), std::string::npos) << run.out;
@@ -95,8 +116,15 @@ TEST_F(Record, ARecordingReplaysToTheSameHashesAndPixels) {
 }
 
 TEST_F(Record, ATamperedRecordingDivergesAtThatFrame) {
-    ASSERT_EQ(plausible("run rope --frames 80 --record r.rec").status, 0);
-    const int frame = 57;
+    // Long enough that states are stored every K > 1 frames: a hash changed
+    // at a frame with a stored state is an edited file, refused (below).
+    const test::Ran recorded = plausible("run rope --frames 3000 --record r.rec");
+    ASSERT_EQ(recorded.status, 0) << recorded.out;
+    const std::size_t every = recorded.out.find("(every ");
+    ASSERT_NE(every, std::string::npos) << recorded.out;
+    const int k = std::atoi(recorded.out.c_str() + every + 7);  // 0: "(every frame)"
+    ASSERT_GT(k, 1) << recorded.out;
+    const int frame = 57 % k != 0 ? 57 : 58;
     std::ofstream(dir_ / "t.rec", std::ios::binary) << tampered(bytes_of(dir_ / "r.rec"), frame);
     for (const std::string command : {"run t.rec", "render t.rec --frames 80 --out t", "check t.rec --physics-only",
                                       "video t.rec -o t.mp4 --size 160x120 --fps 60 --seconds 1.2"}) {
@@ -134,6 +162,94 @@ TEST_F(Record, BadRecordingsExit2) {
     const test::Ran set = plausible("run o.rec --dt 0.01");
     EXPECT_EQ(set.status, 2) << set.out;
     EXPECT_NE(set.out.find("a recording replays the scene it ran"), std::string::npos) << set.out;
+}
+
+TEST_F(Record, AnEditedStoredStateIsRefused) {
+    // A stored state is where a replay or the viewer's seek starts from: one
+    // edited (its checksum made good) is refused, not replayed as "identical".
+    ASSERT_EQ(plausible("run rope --frames 80 --record r.rec").status, 0);
+    for (int which : {0, 2}) {
+        std::ofstream(dir_ / "e.rec", std::ios::binary) << state_edited(bytes_of(dir_ / "r.rec"), which);
+        for (const std::string command :
+             {"run e.rec", "check e.rec --physics-only", "render e.rec --frames 3 --out e"}) {
+            const test::Ran r = plausible(command);
+            EXPECT_EQ(r.status, 2) << command << ": " << r.out;
+            EXPECT_NE(r.out.find("e.rec: not a readable recording: the stored state is not the one"), std::string::npos)
+                << command << ": " << r.out;
+            EXPECT_NE(r.out.find("section STAT of frame "), std::string::npos) << command << ": " << r.out;
+            EXPECT_EQ(r.out.find("identical"), std::string::npos) << command << ": " << r.out;
+        }
+    }
+}
+
+TEST_F(Record, OnlyRegularFilesOfAtMost128MiBAreRead) {
+    // A FIFO with no writer, a device, 4 GiB (sparse) with the recording's
+    // header: each refused at once, naming the file (timeout: a wait would
+    // be a hang, not a pass).
+    ASSERT_EQ(mkfifo((dir_ / "fifo.rec").c_str(), 0600), 0);
+    fs::create_symlink("/dev/zero", dir_ / "zero.rec");
+    ASSERT_EQ(plausible("run oscillator --frames 3 --record o.rec").status, 0);
+    std::ofstream(dir_ / "big.rec", std::ios::binary) << bytes_of(dir_ / "o.rec").substr(0, 16);
+    fs::resize_file(dir_ / "big.rec", 4ull << 30);
+    for (const auto& [file, says] :
+         {std::pair{"fifo.rec", "not a regular file"}, std::pair{"zero.rec", "not a regular file"},
+          std::pair{"big.rec", "4294967296 bytes is too large for a recording (at most 128.0 MiB)"}}) {
+        for (const std::string command : {"run ", "render ", "check --physics-only "}) {
+            const test::Ran r =
+                test::shell("cd '" + dir_.string() + "' && timeout 60 " PLAUSIBLE_EXE " " + command + file);
+            EXPECT_EQ(r.status, 2) << command << file << ": " << r.out;
+            EXPECT_NE(r.out.find(std::string(file) + ": " + says), std::string::npos)
+                << command << file << ": " << r.out;
+        }
+    }
+    for (const std::string command : {"run", "render", "video", "view", "check"}) {
+        const test::Ran help = plausible(command + " --help");
+        EXPECT_NE(help.out.find("128 MiB"), std::string::npos) << command << " --help states the limit: " << help.out;
+    }
+}
+
+TEST_F(Record, ALongRunsRecordingStaysWithinItsStatedBound) {
+    // States within 2 MB however long the run, plus 8 bytes a frame; the
+    // command says the size it wrote, and the recording replays.
+    const int frames = 200'000;
+    const test::Ran run = plausible("run oscillator --frames " + std::to_string(frames) + " --record long.rec");
+    ASSERT_EQ(run.status, 0) << run.out;
+    const std::uintmax_t size = fs::file_size(dir_ / "long.rec");
+    EXPECT_LE(size, 2'000'000u + 8u * (frames + 1) + 65'536u) << "2 MB of states, 8 bytes a frame, the scene";
+    EXPECT_NE(run.out.find("recorded long.rec: 200000 frames, "), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find(" MiB"), std::string::npos) << run.out;
+    const test::Ran replay = plausible("run long.rec");
+    EXPECT_EQ(replay.status, 0) << replay.out;
+    EXPECT_NE(replay.out.find("frames 0 .. 200000 of its 200000 identical"), std::string::npos) << replay.out;
+    const test::Ran help = plausible("run --help");
+    EXPECT_NE(help.out.find("8 bytes a"), std::string::npos) << help.out;
+}
+
+TEST_F(Record, StatesThatGrowAfterFrame0AreThinnedToStayWithinTheBound) {
+    // velocity_verlet keeps two accelerations from frame 1 on: frame 0's
+    // state, which K is chosen from, is the smallest. The recorder doubles K
+    // (keeping every other state) rather than exceed the 2 MB of states.
+    const int frames = 2000;
+    const test::Ran run = plausible("run cloth --integrator velocity_verlet --frames 2000 --record c.rec");
+    ASSERT_EQ(run.status, 0) << run.out;
+    EXPECT_LE(fs::file_size(dir_ / "c.rec"), 2'000'000u + 8u * (frames + 1) + 65'536u) << run.out;
+    const test::Ran replay = plausible("run c.rec");
+    EXPECT_EQ(replay.status, 0) << replay.out;
+    EXPECT_NE(replay.out.find("frames 0 .. 2000 of its 2000 identical"), std::string::npos) << replay.out;
+}
+
+TEST_F(Record, ARunWhoseRecordingWouldBeTooLargeIsRefusedBeforeItRuns) {
+    // A million particles (a 64 MB state) for the most frames a scene runs
+    // (8 bytes each): over 128 MiB, refused before the first step.
+    std::ofstream(dir_ / "many.toml")
+        << "description = \"A million particles.\"\nframes = 10000000\n[step]\ndt = 0.01\n[[groups]]\nname = \"p\"\n"
+           "count = 1000000\nspacing = [0.001, 0, 0]\n";
+    const test::Ran r =
+        test::shell("cd '" + dir_.string() + "' && timeout 120 " PLAUSIBLE_EXE " run many.toml --record many.rec");
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("--record: 10000000 frames of many could make a recording of "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("more than a recording may hold (128.0 MiB)"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(dir_ / "many.rec"));
 }
 
 }  // namespace

@@ -3,10 +3,12 @@
 // is refused with an InputError naming the file (never a crash, never a
 // recording that reads wrong); the scene it replays is the scene it ran.
 #include "scenes/model/recording.h"
+#include "sim/state_hash.h"
 #include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -55,7 +57,7 @@ protected:
                       .every = 4};
         for (int f = 0; f <= 10; ++f) {
             if (f > 0) world.step(scene.step);
-            rec.hashes.push_back(0x1000 + static_cast<std::uint64_t>(f));
+            rec.hashes.push_back(sim::state_hash(world.state()));  // SceneRun's, for a world of particles only
             if (f % rec.every == 0) rec.states.emplace_back(f, world.snapshot());
         }
         rec.frames = 10;
@@ -150,15 +152,73 @@ TEST_F(RecordingFile, BadFilesAreRefusedNamingTheFile) {
     EXPECT_THROW(load_scene_or_recording((dir_ / "good.rec").string(), {{"step.dt", "0.02"}}), sim::InputError);
 }
 
-TEST(RecordingInterval, StatesStayWithinAFewMegabytesAndSixtyFramesApart) {
+TEST_F(RecordingFile, OnlyRegularFilesAreReadAndTheHeaderFirst) {
+    // A FIFO with no writer: refused at once, never waited on (a wait would hang the test).
+    const fs::path fifo = dir_ / "fifo.rec";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    EXPECT_FALSE(is_recording(fifo));
+    EXPECT_NE(refusal(fifo).find(fifo.string() + ": not a regular file"), std::string::npos) << refusal(fifo);
+    // A device that never ends.
+    fs::create_symlink("/dev/zero", dir_ / "zero.rec");
+    EXPECT_FALSE(is_recording(dir_ / "zero.rec"));
+    EXPECT_NE(refusal(dir_ / "zero.rec").find("not a regular file"), std::string::npos) << refusal(dir_ / "zero.rec");
+    // 4 GiB (sparse): the header is checked first, then the size, before reading on.
+    write_recording(dir_ / "good.rec", sample());
+    const std::string good = bytes_of(dir_ / "good.rec");
+    for (const std::string& head : {good.substr(0, 16), std::string("not a recording!")}) {
+        const fs::path big = dir_ / "big.rec";
+        write_bytes(big, head);
+        fs::resize_file(big, 4ull << 30);
+        const std::string why = refusal(big);
+        const bool ours = head == good.substr(0, 16);
+        EXPECT_NE(why.find(ours ? big.string() + ": 4294967296 bytes is too large for a recording (at most 128.0 MiB)"
+                                : big.string() + ": not a recording"),
+                  std::string::npos)
+            << why;
+        fs::remove(big);
+    }
+}
+
+TEST_F(RecordingFile, AnEditedStoredStateIsRefused) {
+    // A stored state changed and the file written whole (its checksum good):
+    // the state no longer hashes to its frame's recorded hash.
+    Recording rec = sample();
+    rec.states[1].second.state.x.set(1, rec.states[1].second.state.x.get(1) + sim::Vec3(1e-9, 0, 0));
+    write_recording(dir_ / "edited.rec", rec);
+    const std::string why = refusal(dir_ / "edited.rec");
+    EXPECT_NE(why.find((dir_ / "edited.rec").string() + ": not a readable recording: the stored state is not the one"),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find("section STAT of frame 4"), std::string::npos) << why;
+    // A stored state at a frame out of order, or beyond the recorded ones.
+    rec = sample();
+    std::swap(rec.states[0], rec.states[1]);
+    write_recording(dir_ / "order.rec", rec);
+    EXPECT_NE(refusal(dir_ / "order.rec").find("out of order"), std::string::npos) << refusal(dir_ / "order.rec");
+    rec = sample();
+    rec.states[2].first = 11;
+    write_recording(dir_ / "beyond.rec", rec);
+    EXPECT_NE(refusal(dir_ / "beyond.rec").find("beyond the 10 recorded"), std::string::npos)
+        << refusal(dir_ / "beyond.rec");
+}
+
+TEST(RecordingInterval, StatesStayWithinTheirBudgetHoweverLongTheRun) {
     EXPECT_EQ(recording_interval(600, 1000), 1) << "small states: every frame";
-    EXPECT_EQ(recording_interval(600, 100'000), 30) << "600 x 100 kB in 2 MB: every 30";
-    EXPECT_EQ(recording_interval(600, 10'000'000), 60) << "at most 60 frames apart";
-    for (int frames : {10, 600, 6000}) {
-        for (std::size_t bytes : {std::size_t{1000}, std::size_t{50'000}, std::size_t{300'000}}) {
+    EXPECT_EQ(recording_interval(600, 100'000), 31) << "601 frames, 20 states of 100 kB in 2 MB";
+    EXPECT_EQ(recording_interval(600, 10'000'000), 601) << "a state over the budget: frame 0's alone";
+    for (int frames : {0, 1, 10, 600, 6000, 100'000, 10'000'000}) {
+        for (std::size_t bytes :
+             {std::size_t{200}, std::size_t{1000}, std::size_t{50'000}, std::size_t{300'000}, std::size_t{5'000'000}}) {
             const int k = recording_interval(frames, bytes);
-            const double total = static_cast<double>(frames / k + 1) * static_cast<double>(bytes);
-            EXPECT_TRUE(total <= 2.2e6 || k == 60) << frames << " frames of " << bytes << " B: every " << k;
+            ASSERT_GE(k, 1);
+            const double stored = static_cast<double>(frames / k + 1);
+            const double budget = std::max(static_cast<double>(kRecordingStatesBytes), static_cast<double>(bytes));
+            EXPECT_LE(stored * static_cast<double>(bytes), budget)
+                << frames << " frames of " << bytes << " B: every " << k;
+            // And not needlessly sparse: one more state would not fit.
+            if (k > 1) {
+                EXPECT_GT((frames / (k - 1) + 1) * static_cast<double>(bytes), budget) << frames << ", " << bytes;
+            }
         }
     }
 }

@@ -16,6 +16,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -122,7 +123,10 @@ TEST_F(View, ABadInputScriptExits2NamingItsLine) {
          {std::pair{"1 key Right\n0 key Left\n", ":2: a line starts with the frame"},
           std::pair{"3 key Right\n2 key Left\n", ":2: frame 2 comes after frame 3"},
           std::pair{"1 key F13\n", ":1: no key 'F13'"}, std::pair{"1 press thumb\n", ":1: press needs left"},
-          std::pair{"1 move 10\n", ":1: move needs X Y"}, std::pair{"1 jump\n", ":1: no event 'jump'"}}) {
+          std::pair{"1 move 10\n", ":1: move needs X Y"}, std::pair{"1 jump\n", ":1: no event 'jump'"},
+          // Found by tools/fuzz/fuzz_input_script: NaN passed the frame's range test, then became an int.
+          std::pair{"nan key Right\n", ":1: a line starts with the frame"},
+          std::pair{"1 move nan inf\n", ":1: move needs X Y"}}) {
         std::ofstream(dir_ / "bad.txt") << line;
         const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input " + (dir_ / "bad.txt").string());
         EXPECT_EQ(r.status, 2) << line << r.out;
@@ -131,6 +135,14 @@ TEST_F(View, ABadInputScriptExits2NamingItsLine) {
     const Ran r = shell("env -u DISPLAY " PLAUSIBLE_EXE " view pendulum --input /no/such/script.txt");
     EXPECT_EQ(r.status, 2) << r.out;
     EXPECT_NE(r.out.find("/no/such/script.txt: cannot read it"), std::string::npos) << r.out;
+    // A device that never ends and a FIFO with no writer: refused, not read
+    // or waited on (timeout: a wait would be a hang, not a pass).
+    ASSERT_EQ(mkfifo((dir_ / "fifo.txt").c_str(), 0600), 0);
+    for (const std::string& script : {std::string("/dev/zero"), (dir_ / "fifo.txt").string()}) {
+        const Ran s = shell("env -u DISPLAY timeout 60 " PLAUSIBLE_EXE " view pendulum --input " + script);
+        EXPECT_EQ(s.status, 2) << script << ": " << s.out;
+        EXPECT_NE(s.out.find(script + ": not a regular file"), std::string::npos) << s.out;
+    }
 }
 
 // --exit-after N steps one scene frame per window frame: the last one is the
