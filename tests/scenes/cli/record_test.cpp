@@ -20,6 +20,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -46,43 +47,41 @@ std::uint64_t fnv1a(const std::string& bytes, std::size_t n) {
     return h;
 }
 
-// The recording with frame `frame`'s recorded hash changed and the END
-// checksum recomputed (docs/design.md "Recordings": sections of a 4-byte
-// tag and a u64 length after a 16-byte header).
-std::string tampered(std::string b, int frame) {
+// The recording with `edit(bytes, tag, payload)` applied to each section
+// before END, and the END checksum recomputed (docs/design.md "Recordings":
+// sections of a 4-byte tag and a u64 length after a 16-byte header).
+template <class Edit>
+std::string edited(std::string b, Edit edit) {
     for (std::size_t pos = 16; pos + 12 <= b.size();) {
         const std::string tag = b.substr(pos, 4);
         const std::uint64_t length = little_u64(b, pos + 4);
-        if (tag == "HASH") {
-            const std::size_t at = pos + 12 + 8 * static_cast<std::size_t>(frame);
-            put_little_u64(b, at, little_u64(b, at) ^ 1);
-        } else if (tag == "END ") {
+        if (tag == "END ") {
             put_little_u64(b, pos + 12, fnv1a(b, pos));
             return b;
         }
+        edit(b, tag, pos + 12);
         pos += 12 + length;
     }
     ADD_FAILURE() << "no END section";
     return b;
 }
 
+// The recording with frame `frame`'s recorded hash changed.
+std::string tampered(std::string b, int frame) {
+    return edited(std::move(b), [&](std::string& bytes, const std::string& tag, std::size_t payload) {
+        if (tag != "HASH") return;
+        const std::size_t at = payload + 8 * static_cast<std::size_t>(frame);
+        put_little_u64(bytes, at, little_u64(bytes, at) ^ 1);
+    });
+}
+
 // The recording with one bit of stored state `which` (0: frame 0's) flipped:
 // its first particle's x (after the STAT payload's frame i32, t f64 and
-// the count u64), and the END checksum recomputed.
+// the count u64).
 std::string state_edited(std::string b, int which) {
-    for (std::size_t pos = 16; pos + 12 <= b.size();) {
-        const std::string tag = b.substr(pos, 4);
-        const std::uint64_t length = little_u64(b, pos + 4);
-        if (tag == "STAT" && which-- == 0) {
-            b[pos + 12 + 4 + 8 + 8] = static_cast<char>(b[pos + 12 + 4 + 8 + 8] ^ 1);
-        } else if (tag == "END ") {
-            put_little_u64(b, pos + 12, fnv1a(b, pos));
-            return b;
-        }
-        pos += 12 + length;
-    }
-    ADD_FAILURE() << "no END section";
-    return b;
+    return edited(std::move(b), [&](std::string& bytes, const std::string& tag, std::size_t payload) {
+        if (tag == "STAT" && which-- == 0) bytes[payload + 4 + 8 + 8] = static_cast<char>(bytes[payload + 4 + 8 + 8] ^ 1);
+    });
 }
 
 class Record : public ::testing::Test {
