@@ -481,6 +481,9 @@ void World::update_body_colliders() {
 }
 
 void World::watch_closely() {
+    // Each pass contains a range not yet contained in this call, or returns:
+    // a range frozen where it is still outside the limits stops the run.
+    std::vector<const ContainedRange*> frozen;
     for (;;) {
         // The energy rule costs a potential-energy pass: only when asked for.
         const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
@@ -500,6 +503,8 @@ void World::watch_closely() {
             return verdict_.index >= r.first && verdict_.index < r.first + r.count;
         });
         if (range == watchdog_.contain.end()) return;
+        if (std::find(frozen.begin(), frozen.end(), &*range) != frozen.end()) return;
+        frozen.push_back(&*range);
         // Contained: freeze the range where it was before this substep (finite,
         // within the limits), pinned and at rest, and look again.
         contained_.push_back({range->name, verdict_});

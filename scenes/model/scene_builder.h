@@ -43,6 +43,7 @@ struct SceneBuilder {
     std::map<std::string, std::size_t, std::less<>> particle_index;  // particle names
     std::map<std::string, int, std::less<>> body_index;              // rigid body names (model.rigid.bodies)
     std::vector<const toml::node*> joint_nodes;                      // where each of model.rigid.joints was written
+    std::vector<Section> contained_ropes;  // the [[ropes]] with contain_explosion, for read_watchdog's check
 
     // Registers a particle's name (none when empty); names are unique.
     void add_name(const Section& s, const std::string& name, std::size_t index);
@@ -98,7 +99,8 @@ void read_forces(SceneBuilder& b, const Section& top);
 void read_constraints(SceneBuilder& b, const Section& top);
 void read_collisions(SceneBuilder& b, const Section& top);
 
-// [watchdog] (read_run_settings.cpp); [camera] and [view] (read_camera_view.cpp).
+// [watchdog] (read_run_settings.cpp), and a contained rope inside its world box;
+// [camera] and [view] (read_camera_view.cpp).
 void read_watchdog(SceneBuilder& b, const Section& top);
 void read_camera(SceneBuilder& b, const Section& top);
 void read_view(SceneBuilder& b, const Section& top);

@@ -45,7 +45,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     scene.name = name;
     const Section top(reader, root, "");
     read_top(top, scene);
-    SceneBuilder b{reader, scene, {}, {}, {}};
+    SceneBuilder b{reader, scene, {}, {}, {}, {}};
     read_timing(b, top);
     read_step(b, top);
     read_particles(b, top);

@@ -221,6 +221,24 @@ TEST(SetOverrides, BadValuesNameTheOverride) {
     fs::remove_all(dir);
 }
 
+// Issue 51, row 2: a rope whose explosion is contained, starting outside the
+// world box, was frozen outside it again and again (GBs, then std::bad_alloc).
+TEST(SetOverrides, AContainedRopeOutsideTheWorldBoxIsRefused) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_contained_outside_test";
+    fs::create_directories(dir);
+    Result r = run("run rope-stiff --set 'ropes[0].end=[1.2,51,0.5]' --frames 1", dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--set ropes[0].end=[1.2,51,0.5]: ropes[0].end = [1.2, 51, 0.5] is outside the world box "
+                         "(watchdog.world_half_extent = 50 m): a rope with contain_explosion = true must start "
+                         "inside it"),
+              std::string::npos)
+        << r.err;
+    // The same rope not contained runs, and the watchdog stops it at once (exit 1).
+    r = run("run rope-stiff --set 'ropes[0].end=[1.2,51,0.5]' --set ropes[0].contain_explosion=false --frames 1", dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    fs::remove_all(dir);
+}
+
 // More frames than one contact sheet can hold (16384 px): refused before a
 // frame is written, with the limit; a long list that fits is tiled in rows.
 TEST(RenderCommand, FramesThatCannotFitOneSheetAreRefusedUpFront) {
