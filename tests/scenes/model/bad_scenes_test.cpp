@@ -212,6 +212,12 @@ TEST(SetOverrides, BadValuesNameTheOverride) {
     r = run("run oscillator --set particles[1].mas=2", dir);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("did you mean 'mass'?"), std::string::npos) << r.err;
+    // An array's element is named by the override too, not by line 1 of the file.
+    r = run("run oscillator --set 'particles[0].position=[0,1e300,0]'", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("error: --set particles[0].position=[0,1e300,0]: particles[0].position[1] must be"),
+              std::string::npos)
+        << r.err;
     r = run("run oscillator --integrator rk5", dir);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("step.integrator must be one of"), std::string::npos) << r.err;
