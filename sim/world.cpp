@@ -445,7 +445,7 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
             rigid_->step(h);
             laps.lap(times_.rigid);
         }
-        if (watchdog_.enabled) {
+        if (watchdog_.enabled || rigid_) {  // bodies past ODE's reach stop the run even without it
             watch();
             laps.lap(times_.watchdog);
         }
@@ -490,12 +490,13 @@ void World::watch_closely() {
         verdict_ = check(watchdog_, state_, e, initial_energy_, frames_, watched_suspects_);
         watched_suspects_.reset();  // a contained range changes the state: look again in full
         if (!verdict_.exploded() && rigid_) {
-            std::vector<Vec3> positions, velocities;
+            std::vector<Vec3> positions, velocities, angular_velocities;
             for (const BodyState& b : rigid_->body_states()) {
                 positions.push_back(b.position);
                 velocities.push_back(b.velocity);
+                angular_velocities.push_back(b.angular_velocity);
             }
-            verdict_ = check_bodies(watchdog_, positions, velocities, frames_);
+            verdict_ = check_bodies(watchdog_, positions, velocities, frames_, angular_velocities);
             return;  // bodies are never contained
         }
         if (!verdict_.exploded() || verdict_.quantity == "energy") return;

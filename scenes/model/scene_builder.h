@@ -30,6 +30,9 @@ constexpr std::size_t kMaxSprings = 4'000'000;
 constexpr int kMaxCheckpoints = 16;
 constexpr int kMaxSubsteps = 10'000;
 constexpr double kMaxSleepTime = 1e6;  // s, [rigid] sleep_time: 11.6 days at rest (shipped scenes: 0.5)
+// deg/s, each component of a body's angular_velocity: the norm stays under
+// sim::kMaxBodySpin (1,745 rad/s a component, 3,023 at most).
+constexpr double kMaxSpinDegrees = 1e5;
 
 // How a pinned particle looks, whatever its body's colour.
 constexpr Color kPinnedColor{0.45f, 0.45f, 0.48f, 1};
