@@ -14,9 +14,9 @@ namespace sim {
 using rigid_detail::to_vec;
 
 // ω over h by RK4 on Euler's torque-free equations in the body frame,
-// I ω̇ = -ω × I ω (see RigidSettings::gyroscopic_rk4), in steps of |ω| h <= 2.5,
-// one at every spin the shipped scenes reach: past RK4's limit (~2.8) ω grew
-// to overflow. |ω| <= kMaxBodySpin (check_bodies) bounds their number.
+// I ω̇ = -ω × I ω (see RigidSettings::gyroscopic_rk4): one step while |ω| h <=
+// 2.5 (every spin the shipped scenes reach), else steps of |ω| h <= 0.25: past
+// RK4's limit (~2.8) ω grew to overflow. kMaxBodySpin bounds their number.
 void RigidWorld::Impl::gyroscopic(double h) {
     for (Slot& s : slots) {
         if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;

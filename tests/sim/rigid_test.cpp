@@ -390,7 +390,7 @@ TEST(Rigid, WhatOdeCannotTakeIsRefusedWithItsRange) {
 
 // A spin about the intermediate axis at |ω| h = 3000: one RK4 step of the
 // gyroscopic term overflowed (and ODE aborted on the NaN quaternion); in
-// steps of |ω| h <= 2.5 the spin stays finite and within a few percent of
+// steps of |ω| h <= 0.25 the spin stays finite and within a few percent of
 // its energy, which the torque-free equations keep.
 TEST(Rigid, AFastSpinAtALargeStepStaysFinite) {
     RigidWorld world({.gravity = Vec3::Zero(), .ground = false, .sleep = false});
