@@ -77,15 +77,15 @@ struct BodyDef {
 // cells, with margin); extreme masses and sizes give its solver NaN, which its
 // quaternion normalisation asserts on. validate(BodyDef) and the loader hold
 // bodies to them; a body that leaves kMaxBodyReach stops the run (check_bodies).
-constexpr double kMinBodyMass = 1e-3;    // kg, each body
-constexpr double kMaxBodyMass = 1e6;     // kg
-constexpr double kMinBodySize = 1e-3;    // m, each extent, radius or length
-constexpr double kMaxBodySize = 1e3;     // m; also a part's offset and com
-constexpr double kMaxBodyReach = 1e8;    // m, |x|, |y|, |z| of a body's centre of mass
+constexpr double kMinBodyMass = 1e-3;  // kg, each body
+constexpr double kMaxBodyMass = 1e6;   // kg
+constexpr double kMinBodySize = 1e-3;  // m, each extent, radius or length
+constexpr double kMaxBodySize = 1e3;   // m; also a part's offset and com
+constexpr double kMaxBodyReach = 1e8;  // m, |x|, |y|, |z| of a body's centre of mass
 // A spin past this stops the run (check_bodies): the gyroscopic RK4 step
 // overflows a few steps later and ODE asserts on the NaN quaternion.
-constexpr double kMaxBodySpin = 1e4;     // rad/s
-constexpr double kMaxJointForce = 1e9;   // N or N·m: joint friction, motor force (past it ODE's solver overflows)
+constexpr double kMaxBodySpin = 1e4;    // rad/s
+constexpr double kMaxJointForce = 1e9;  // N or N·m: joint friction, motor force (past it ODE's solver overflows)
 
 struct RigidSettings {
     Vec3 gravity = Vec3(0, -9.81, 0);  // m/s²

@@ -70,10 +70,10 @@ sim::BodyDef read_body(const Section& s) {
         if (!(mass >= sim::kMinBodyMass && mass <= sim::kMaxBodyMass)) {
             char text[32];
             std::snprintf(text, sizeof text, "%.3g", mass);
-            s.fail(b.parts.empty() ? "density" : "parts",
-                   std::string(b.parts.empty() ? "gives" : "give") + " a mass of " + text +
-                       " kg; a body's must be within " + sim::format_value(sim::kMinBodyMass) + " .. " +
-                       sim::format_value(sim::kMaxBodyMass) + " kg");
+            s.fail(b.parts.empty() ? "density" : "parts", std::string(b.parts.empty() ? "gives" : "give") +
+                                                              " a mass of " + text + " kg; a body's must be within " +
+                                                              sim::format_value(sim::kMinBodyMass) + " .. " +
+                                                              sim::format_value(sim::kMaxBodyMass) + " kg");
         }
     }
     return b;

@@ -1,8 +1,8 @@
 // sim::check (the explosion watchdog) on hand-made states: each rule, its
 // order, the limits' validation and the verdict's message.
 #include "sim/watchdog.h"
-#include "sim/rigid.h"
 #include "sim/error.h"
+#include "sim/rigid.h"
 
 #include <gtest/gtest.h>
 

@@ -258,7 +258,8 @@ TEST(SetOverrides, ValuesOdeCannotTakeAreRefusedAndTheirEdgesRun) {
         {"stack --set 'bodies[7].mass=1e300'",
          "--set bodies[7].mass=1e300: bodies[7].mass must be within 0.001 .. 1e+06, in kg (got 1e+300)"},
         {"inertia --set 'bodies[2].parts[1].size=[10000,0.3,0]'",
-         "--set bodies[2].parts[1].size=[10000,0.3,0]: bodies[2].parts[1].size needs its first 2 entries within 0.001 .. 1000, in m (got 10000)"},
+         "--set bodies[2].parts[1].size=[10000,0.3,0]: bodies[2].parts[1].size needs its first 2 entries within 0.001 "
+         ".. 1000, in m (got 10000)"},
         {"inertia --set 'bodies[2].parts[1].size=[1000,0.3,0]'",
          "bodies[2].parts give a mass of 9.42e+08 kg; a body's must be within 0.001 .. 1e+06 kg"},
         // The mutation sweep's findings (tests/robustness/mutation_sweep.cpp).
@@ -299,9 +300,10 @@ TEST(SetOverrides, ValuesOdeCannotTakeAreRefusedAndTheirEdgesRun) {
 TEST(SetOverrides, ABodyBeyondOdesReachStopsTheRunWatchdogOrNot) {
     const fs::path dir = fs::temp_directory_path() / "plausible_ode_reach_test";
     fs::create_directories(dir);
-    const Result r = run("run stack --set 'bodies[8].position=[9.9e7,1,0]' --set 'bodies[8].velocity=[1e9,0,0]' "
-                         "--set watchdog.enabled=false --frames 120",
-                         dir);
+    const Result r =
+        run("run stack --set 'bodies[8].position=[9.9e7,1,0]' --set 'bodies[8].velocity=[1e9,0,0]' "
+            "--set watchdog.enabled=false --frames 120",
+            dir);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     fs::remove_all(dir);
 }
