@@ -388,8 +388,10 @@ bool RigidWorld::alive(BodyId id) const {
 std::size_t RigidWorld::body_count() const { return impl_->slots.size() - impl_->free_slots.size(); }
 
 void RigidWorld::step(double dt) {
-    if (!(dt > 0.0) || !std::isfinite(dt))
-        throw InputError("dt must be > 0 and finite, in s (got " + format_value(dt) + ")");
+    if (!(dt >= kMinRigidStep) || !std::isfinite(dt)) {
+        throw InputError("a rigid step must be at least " + format_value(kMinRigidStep) + " s and finite (got " +
+                         format_value(dt) + ")");
+    }
     Impl& m = *impl_;
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));

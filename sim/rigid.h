@@ -85,6 +85,7 @@ constexpr double kMaxBodyReach = 1e8;  // m, |x|, |y|, |z| of a body's centre of
 // A spin past this stops the run (check_bodies): the gyroscopic RK4 step
 // overflows a few steps later and ODE asserts on the NaN quaternion.
 constexpr double kMaxBodySpin = 1e4;    // rad/s
+constexpr double kMinRigidStep = 1e-9;  // s, the least step (ODE divides by it: ERP / h, CFM / h)
 constexpr double kMaxJointForce = 1e9;  // N or N·m: joint friction, motor force (past it ODE's solver overflows)
 
 struct RigidSettings {

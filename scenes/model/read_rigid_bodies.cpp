@@ -129,4 +129,14 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
     rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
 }
 
+void refuse_rigid_step_too_small(SceneBuilder& b, const Section& top) {
+    const sim::StepSettings& step = b.scene.step;
+    const toml::table* t = top.subtable("step");
+    if (b.scene.model.rigid.empty() || t == nullptr || step.dt / step.substeps >= sim::kMinRigidStep) return;
+    Section(b.r, *t, "step")
+        .fail("dt", "/ substeps must be at least " + sim::format_value(sim::kMinRigidStep) +
+                        " s with rigid bodies: ODE divides by the step (got " +
+                        sim::format_value(step.dt / step.substeps) + ")");
+}
+
 }  // namespace scenes::loader

@@ -93,6 +93,8 @@ void read_ragdolls(SceneBuilder& b, const Section& top);
 void read_chains(SceneBuilder& b, const Section& top);
 void read_joints(SceneBuilder& b, const Section& top);
 void read_rigid_settings(SceneBuilder& b, const Section& top);
+// step.dt / substeps at least sim::kMinRigidStep when there are rigid bodies.
+void refuse_rigid_step_too_small(SceneBuilder& b, const Section& top);
 void warn_jointed_mass_ratios(SceneBuilder& b);
 
 // [forces] and its sub-tables (read_forces.cpp).

@@ -58,6 +58,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     read_chains(b, top);
     read_joints(b, top);
     read_rigid_settings(b, top);
+    refuse_rigid_step_too_small(b, top);
     warn_jointed_mass_ratios(b);
     require_bodies(b, top);
     read_forces(b, top);

@@ -269,6 +269,9 @@ TEST(SetOverrides, ValuesOdeCannotTakeAreRefusedAndTheirEdgesRun) {
         {"ragdoll --set 'ragdolls[0].joint_friction=1e300'",
          "--set ragdolls[0].joint_friction=1e300: ragdolls[0].joint_friction must be within 0 .. 1e+09, in N·m "
          "(got 1e+300)"},
+        {"ragdoll-pile --set step.dt=1e-300",
+         "--set step.dt=1e-300: step.dt / substeps must be at least 1e-09 s with rigid bodies: ODE divides by the "
+         "step (got 1e-300)"},
         {"ragdoll --set 'ragdolls[0].position=[1e9,2.63,0]'",
          "--set ragdolls[0].position=[1e9,2.63,0]: ragdolls[0].position[0] must be [x, y, z]: three finite numbers "
          "in m, within +-1e+08 (got 1e+09)"},
@@ -287,6 +290,7 @@ TEST(SetOverrides, ValuesOdeCannotTakeAreRefusedAndTheirEdgesRun) {
         // Spun at the edge and stepped 10 s at a time: the gyroscopic RK4 in small steps, no overflow.
         "inertia --set 'bodies[1].angular_velocity=[1e5,1e5,1e5]' --dt 10",
         "ragdoll --set 'ragdolls[0].joint_friction=1e9'",
+        "ragdoll-pile --set step.dt=1e-9",
     };
     for (const char* args : edges) {
         const Result r = run("run " + std::string(args) + " --frames 30", dir);
