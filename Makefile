@@ -7,7 +7,7 @@ PRESET := $(if $(filter true 1,$(CI)),ci,release)
 JOBS   := $(shell nproc 2>/dev/null || echo 2)
 RESULTS := build/test-results
 
-.PHONY: all deps configure build test demo bench test-sanitize check-clang fuzz clean
+.PHONY: all deps configure build test demo bench test-sanitize check-clang fuzz sweep clean
 
 all: build
 
@@ -73,6 +73,14 @@ check-clang: deps
 FUZZ_SECONDS := 600
 fuzz: deps
 	FUZZ_JOBS=$(JOBS) sh tools/fuzz/run.sh $(FUZZ_SECONDS) build-fuzz
+
+# The mutation sweep in full (tests/robustness/mutation_sweep.cpp): every
+# numeric value of every shipped scene replaced by extremes and scaled, 30
+# frames each in a forked child under CPU and memory limits; make test runs
+# every 7th variant (robustness.mutation_sweep). Findings are printed with
+# the scene and the --set that makes them.
+sweep: build
+	build/mutation_sweep scenes --every 1 --jobs $(JOBS)
 
 clean:
 	rm -rf build build-sanitize build-clang build-fuzz

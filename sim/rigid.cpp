@@ -110,18 +110,30 @@ void require_unit(const Eigen::Quaterniond& q, const std::string& name) {
     }
 }
 
-}  // namespace
-
-void validate(const BodyDef& b) {
-    if (b.parts.empty()) {
-        for (int k = 0; k < size_components(b.shape); ++k) require_positive(b.size[k], "body.size", "m");
+void require_within(double value, double lo, double hi, const std::string& name, const char* unit) {
+    if (!(value >= lo && value <= hi)) {
+        throw InputError(name + " must be within " + format_value(lo) + " .. " + format_value(hi) + ", in " + unit +
+                         " (got " + format_value(value) + ")");
     }
+}
+
+void require_size(const Vec3& size, RigidShape shape, const std::string& name) {
+    for (int k = 0; k < size_components(shape); ++k) require_within(size[k], kMinBodySize, kMaxBodySize, name, "m");
+}
+
+std::vector<BodyPart> parts_of(const BodyDef& def);
+dMass mass_of_parts(const std::vector<BodyPart>& parts, double total);
+
+// Everything but the mass's range (mass_of reports the mass of such a body).
+void validate_shape(const BodyDef& b) {
+    if (b.parts.empty()) require_size(b.size, b.shape, "body.size");
     for (std::size_t p = 0; p < b.parts.size(); ++p) {
         const BodyPart& part = b.parts[p];
         const std::string name = "body.parts[" + std::to_string(p) + "]";
-        for (int k = 0; k < size_components(part.shape); ++k) require_positive(part.size[k], name + ".size", "m");
+        require_size(part.size, part.shape, name + ".size");
         require_positive(part.density, name + ".density", "kg/m³");
-        if (!part.offset.allFinite()) throw InputError(name + ".offset must be finite, in m");
+        if (!(part.offset.cwiseAbs().maxCoeff() <= kMaxBodySize))
+            throw InputError(name + ".offset must be within +-" + format_value(kMaxBodySize) + ", in m");
         require_unit(part.orientation, name + ".orientation");
     }
     if (b.mass == 0.0) {
@@ -132,7 +144,18 @@ void validate(const BodyDef& b) {
     if (!b.position.allFinite() || !b.velocity.allFinite() || !b.angular_velocity.allFinite() || !b.com.allFinite()) {
         throw InputError("body.position, velocity, angular_velocity and com must be finite");
     }
+    if (!(b.position.cwiseAbs().maxCoeff() <= kMaxBodyReach))
+        throw InputError("body.position must be within +-" + format_value(kMaxBodyReach) + ", in m");
+    if (!(b.com.cwiseAbs().maxCoeff() <= kMaxBodySize))
+        throw InputError("body.com must be within +-" + format_value(kMaxBodySize) + ", in m");
     require_unit(b.orientation, "body.orientation");
+}
+
+}  // namespace
+
+void validate(const BodyDef& b) {
+    validate_shape(b);
+    require_within(mass_of_parts(parts_of(b), b.mass).mass, kMinBodyMass, kMaxBodyMass, "body mass", "kg");
 }
 
 RigidWorld::RigidWorld(const RigidSettings& settings) : impl_(std::make_unique<Impl>()) {
@@ -250,7 +273,7 @@ dMass mass_of_parts(const std::vector<BodyPart>& parts, double total) {
 }  // namespace
 
 double mass_of(const BodyDef& def) {
-    validate(def);
+    validate_shape(def);
     return mass_of_parts(parts_of(def), def.mass).mass;
 }
 
@@ -365,8 +388,10 @@ bool RigidWorld::alive(BodyId id) const {
 std::size_t RigidWorld::body_count() const { return impl_->slots.size() - impl_->free_slots.size(); }
 
 void RigidWorld::step(double dt) {
-    if (!(dt > 0.0) || !std::isfinite(dt))
-        throw InputError("dt must be > 0 and finite, in s (got " + format_value(dt) + ")");
+    if (!(dt >= kMinRigidStep) || !std::isfinite(dt)) {
+        throw InputError("a rigid step must be at least " + format_value(kMinRigidStep) + " s and finite (got " +
+                         format_value(dt) + ")");
+    }
     Impl& m = *impl_;
     // ODE's one random generator, seeded by this world alone (see the header).
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));

@@ -72,6 +72,22 @@ struct BodyDef {
     Vec3 com = Vec3::Zero();  // m
 };
 
+// What ODE can take: past these its checks abort the process (issue 51): its
+// hash space's integer cells overflow past kMaxBodyReach (2^28 m at its 1/8 m
+// cells, with margin); extreme masses and sizes give its solver NaN, which its
+// quaternion normalisation asserts on. validate(BodyDef) and the loader hold
+// bodies to them; a body that leaves kMaxBodyReach stops the run (check_bodies).
+constexpr double kMinBodyMass = 1e-3;  // kg, each body
+constexpr double kMaxBodyMass = 1e6;   // kg
+constexpr double kMinBodySize = 1e-3;  // m, each extent, radius or length
+constexpr double kMaxBodySize = 1e3;   // m; also a part's offset and com
+constexpr double kMaxBodyReach = 1e8;  // m, |x|, |y|, |z| of a body's centre of mass
+// A spin past this stops the run (check_bodies): the gyroscopic RK4 step
+// overflows a few steps later and ODE asserts on the NaN quaternion.
+constexpr double kMaxBodySpin = 1e4;    // rad/s
+constexpr double kMinRigidStep = 1e-9;  // s, the least step (ODE divides by it: ERP / h, CFM / h)
+constexpr double kMaxJointForce = 1e9;  // N or N·m: joint friction, motor force (past it ODE's solver overflows)
+
 struct RigidSettings {
     Vec3 gravity = Vec3(0, -9.81, 0);  // m/s²
     bool quickstep = true;             // dWorldQuickStep (iterative) or dWorldStep (exact LCP)
@@ -125,7 +141,8 @@ struct RigidSettings {
 void validate(const RigidSettings& settings);
 void validate(const BodyDef& body);
 
-// The body's mass, kg: `mass`, or the parts' densities times their volumes.
+// The body's mass, kg: `mass`, or the parts' densities times their volumes
+// (validated but for the mass's own range, so that a loader can report it).
 double mass_of(const BodyDef& body);
 
 // Joints between two bodies (or a body and the world: b invalid).

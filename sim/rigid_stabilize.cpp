@@ -14,19 +14,27 @@ namespace sim {
 using rigid_detail::to_vec;
 
 // ω over h by RK4 on Euler's torque-free equations in the body frame,
-// I ω̇ = -ω × I ω (see RigidSettings::gyroscopic_rk4).
+// I ω̇ = -ω × I ω (see RigidSettings::gyroscopic_rk4): one step while |ω| h <=
+// 2.5 (every spin the shipped scenes reach), else steps of |ω| h <= 0.25: past
+// RK4's limit (~2.8) ω grew to overflow. kMaxBodySpin bounds their number.
 void RigidWorld::Impl::gyroscopic(double h) {
     for (Slot& s : slots) {
         if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
         const dReal* q = dBodyGetQuaternion(s.body);
         const Eigen::Matrix3d R = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
-        const Vec3 w0 = R.transpose() * to_vec(dBodyGetAngularVel(s.body));
-        auto f = [&](const Vec3& w) -> Vec3 { return -(s.inv_inertia * w.cross(s.inertia * w)); };
-        const Vec3 k1 = f(w0);
-        const Vec3 k2 = f(w0 + 0.5 * h * k1);
-        const Vec3 k3 = f(w0 + 0.5 * h * k2);
-        const Vec3 k4 = f(w0 + h * k3);
-        const Vec3 w = R * (w0 + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
+        Vec3 w = R.transpose() * to_vec(dBodyGetAngularVel(s.body));
+        auto f = [&](const Vec3& x) -> Vec3 { return -(s.inv_inertia * x.cross(s.inertia * x)); };
+        const double turn = w.norm() * h;  // rad
+        const int n = turn <= 2.5 ? 1 : static_cast<int>(std::min(1e6, std::ceil(turn / 0.25)));
+        const double hs = h / n;
+        for (int i = 0; i < n; ++i) {
+            const Vec3 k1 = f(w);
+            const Vec3 k2 = f(w + 0.5 * hs * k1);
+            const Vec3 k3 = f(w + 0.5 * hs * k2);
+            const Vec3 k4 = f(w + hs * k3);
+            w += hs / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        }
+        w = R * w;
         dBodySetAngularVel(s.body, w.x(), w.y(), w.z());
     }
 }

@@ -2,10 +2,12 @@
 
 #include "sim/cpu.h"
 #include "sim/error.h"
+#include "sim/rigid.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace sim {
 namespace {
@@ -160,11 +162,26 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
 }
 
 Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
-                     const std::vector<Vec3>& velocities, std::uint64_t frame) {
-    if (!limits.enabled) return {};
-    Verdict v = first_violation(
-        limits, positions.size(), [&](std::size_t i) { return positions[i]; },
-        [&](std::size_t i) { return velocities[i]; }, frame);
+                     const std::vector<Vec3>& velocities, std::uint64_t frame,
+                     const std::vector<Vec3>& angular_velocities) {
+    Verdict v;
+    if (limits.enabled && limits.world_half_extent <= kMaxBodyReach) {
+        v = first_violation(
+            limits, positions.size(), [&](std::size_t i) { return positions[i]; },
+            [&](std::size_t i) { return velocities[i]; }, frame);
+    } else {
+        // ODE cannot place a body past kMaxBodyReach (it aborts): watchdog or not, that stops the run.
+        WatchdogLimits ode;
+        ode.max_speed = limits.enabled ? limits.max_speed : std::numeric_limits<double>::max();
+        ode.world_half_extent = kMaxBodyReach;
+        v = first_violation(
+            ode, positions.size(), [&](std::size_t i) { return positions[i]; },
+            [&](std::size_t i) { return velocities[i]; }, frame);
+    }
+    for (std::size_t i = 0; i < angular_velocities.size() && !v.exploded(); ++i) {
+        const double spin = angular_velocities[i].norm();
+        if (!(spin <= kMaxBodySpin)) v = exploded(frame, "spin", i, spin, kMaxBodySpin);
+    }
     v.subject = "body";
     return v;
 }
@@ -179,6 +196,10 @@ std::string Verdict::message(std::string_view scene) const {
     if (quantity == "speed") {
         return text + subject + " " + std::to_string(index) + " speed " + short_value(value) + " m/s > " +
                short_value(limit) + " m/s";
+    }
+    if (quantity == "spin") {
+        return text + subject + " " + std::to_string(index) + " spins at " + short_value(value) + " rad/s > " +
+               short_value(limit) + " rad/s, past what ODE can step";
     }
     if (quantity == "bounds") {
         return text + subject + " " + std::to_string(index) + " is " + short_value(value) +

@@ -102,7 +102,11 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
 
 // The same rules (non-finite, speed, bounds) for rigid bodies' centres of
 // mass and velocities, body index order; the verdict's subject is "body".
+// Whatever the limits, also what ODE can step (sim/rigid.h): a body past
+// kMaxBodyReach, or spinning past kMaxBodySpin (quantity "spin"; checked
+// where angular velocities are given), has exploded.
 Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
-                     const std::vector<Vec3>& velocities, std::uint64_t frame);
+                     const std::vector<Vec3>& velocities, std::uint64_t frame,
+                     const std::vector<Vec3>& angular_velocities = {});
 
 }  // namespace sim

@@ -456,7 +456,7 @@ void World::run_substeps(const StepSettings& settings, Stopwatch& laps) {
             rigid_->step(h);
             laps.lap(times_.rigid);
         }
-        if (watchdog_.enabled) {
+        if (watchdog_.enabled || rigid_) {  // bodies past ODE's reach stop the run even without it
             watch();
             laps.lap(times_.watchdog);
         }
@@ -492,18 +492,22 @@ void World::update_body_colliders() {
 }
 
 void World::watch_closely() {
+    // Each pass contains a range not yet contained in this call, or returns:
+    // a range frozen where it is still outside the limits stops the run.
+    std::vector<const ContainedRange*> frozen;
     for (;;) {
         // The energy rule costs a potential-energy pass: only when asked for.
         const double e = watchdog_.energy_growth > 0.0 ? energy() : 0.0;
         verdict_ = check(watchdog_, state_, e, initial_energy_, frames_, watched_suspects_);
         watched_suspects_.reset();  // a contained range changes the state: look again in full
         if (!verdict_.exploded() && rigid_) {
-            std::vector<Vec3> positions, velocities;
+            std::vector<Vec3> positions, velocities, angular_velocities;
             for (const BodyState& b : rigid_->body_states()) {
                 positions.push_back(b.position);
                 velocities.push_back(b.velocity);
+                angular_velocities.push_back(b.angular_velocity);
             }
-            verdict_ = check_bodies(watchdog_, positions, velocities, frames_);
+            verdict_ = check_bodies(watchdog_, positions, velocities, frames_, angular_velocities);
             return;  // bodies are never contained
         }
         if (!verdict_.exploded() || verdict_.quantity == "energy") return;
@@ -511,6 +515,8 @@ void World::watch_closely() {
             return verdict_.index >= r.first && verdict_.index < r.first + r.count;
         });
         if (range == watchdog_.contain.end()) return;
+        if (std::find(frozen.begin(), frozen.end(), &*range) != frozen.end()) return;
+        frozen.push_back(&*range);
         // Contained: freeze the range where it was before this substep (finite,
         // within the limits), pinned and at rest, and look again.
         contained_.push_back({range->name, verdict_});

@@ -10,6 +10,17 @@ namespace scenes {
 namespace loader {
 namespace {
 
+// Marks a node made by --set and everything in it (an array's elements: their
+// own places are in "v = VALUE", not in the file).
+void mark(Reader& reader, const toml::node* node, const std::string& text) {
+    reader.mark_override(node, text);
+    if (const toml::array* a = node->as_array()) {
+        for (const toml::node& e : *a) mark(reader, &e, text);
+    } else if (const toml::table* t = node->as_table()) {
+        for (auto&& [k, v] : *t) mark(reader, &v, text);
+    }
+}
+
 // Applies "a.b[2].c = value" to the parsed file; the new node is marked so
 // that errors about it say "--set KEY=VALUE".
 void apply_override(toml::table& root, const Override& o, Reader& reader) {
@@ -48,7 +59,7 @@ void apply_override(toml::table& root, const Override& o, Reader& reader) {
         so_far += (so_far.empty() ? "" : ".") + name;
         if (last && !index) {
             table->insert_or_assign(name, std::move(*value_doc.get("v")));
-            reader.mark_override(table->get(name), text);
+            mark(reader, table->get(name), text);
             return;
         }
         toml::node* next = table->get(name);
@@ -59,7 +70,7 @@ void apply_override(toml::table& root, const Override& o, Reader& reader) {
             }
             if (last) {
                 array->replace(array->begin() + static_cast<std::ptrdiff_t>(*index), std::move(*value_doc.get("v")));
-                reader.mark_override(array->get(*index), text);
+                mark(reader, array->get(*index), text);
                 return;
             }
             next = array->get(*index);

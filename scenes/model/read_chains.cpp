@@ -28,19 +28,26 @@ struct ChainDef {
 ChainDef read_chain(const Section& s) {
     s.only(keys::chain);
     ChainDef c;
-    c.anchor = s.vec3("anchor", c.anchor, "m");
+    c.anchor = s.vec3("anchor", c.anchor, "m", sim::kMaxBodyReach);
     c.direction = s.direction("direction", c.direction);
     c.links = static_cast<int>(s.integer("links", c.links, 1, 10'000));
-    c.link_length = s.positive("link_length", c.link_length, 1e6, "m");
-    c.radius = s.positive("radius", c.radius, 1e6, "m");
+    // Sizes and masses within what ODE takes (sim::kMinBodySize .. kMaxBodySize).
+    c.link_length = s.positive("link_length", c.link_length, sim::kMaxBodySize, "m");
+    c.radius = s.number("radius", c.radius, sim::kMinBodySize, sim::kMaxBodySize, "m");
     // The capsule's straight part, link_length - 2 radius, must be > 0: its
     // round ends meet the neighbours' at the joints.
-    if (!(c.link_length > 2.0 * c.radius)) {
+    if (!(c.link_length - 2.0 * c.radius >= sim::kMinBodySize)) {
         s.fail("link_length", "must be more than twice the radius (" + sim::format_value(2.0 * c.radius) +
-                                  " m): the capsule is [radius, link_length - 2 radius] (got " +
+                                  " m) by at least " + sim::format_value(sim::kMinBodySize) +
+                                  " m: the capsule is [radius, link_length - 2 radius] (got " +
                                   sim::format_value(c.link_length) + ")");
     }
-    c.mass = s.positive("mass", c.mass, kHuge, "kg");
+    c.mass = s.number("mass", c.mass, sim::kMinBodyMass, sim::kMaxBodyMass, "kg");
+    const sim::Vec3 last = c.anchor + c.links * c.link_length * c.direction;  // m, the last joint
+    if (!(last.cwiseAbs().maxCoeff() <= sim::kMaxBodyReach)) {
+        s.fail("links", "of " + sim::format_value(c.link_length) + " m from the anchor reach beyond +-" +
+                            sim::format_value(sim::kMaxBodyReach) + " m, past what ODE can place");
+    }
     c.fixed = s.boolean("fixed", c.fixed);
     return c;
 }
@@ -48,7 +55,7 @@ ChainDef read_chain(const Section& s) {
 // Where the end body's centre of mass goes beyond the last joint, m: end_offset,
 // or a plain sphere's radius (its surface then touches the joint).
 double end_offset(const Section& s, const sim::BodyDef& end, const std::string& end_name) {
-    if (s.node("end_offset") != nullptr) return s.number("end_offset", 0.0, 0.0, 1e6, "m");
+    if (s.node("end_offset") != nullptr) return s.number("end_offset", 0.0, 0.0, sim::kMaxBodySize, "m");
     const bool plain_sphere = end.parts.empty() && end.shape == sim::RigidShape::sphere && end.com.isZero(0.0);
     if (!plain_sphere) {
         s.fail("end", "names " + quote(end_name) +

@@ -43,7 +43,7 @@ void read_limits_and_motor(const Section& s, sim::JointDef& joint) {
     joint.stop_stiffness = s.number("stop_stiffness", 0.0, 0.0, kHuge, angular ? "N·m/rad" : "N/m");
     joint.stop_damping = s.number("stop_damping", 0.0, 0.0, kHuge, angular ? "N·m·s/rad" : "N·s/m");
     joint.motor_velocity = s.number("motor_velocity", 0.0, -1e6, 1e6, angular ? "deg/s" : "m/s") * scale;
-    joint.motor_max_force = s.number("motor_max_force", 0.0, 0.0, kHuge, angular ? "N·m" : "N");
+    joint.motor_max_force = s.number("motor_max_force", 0.0, 0.0, sim::kMaxJointForce, angular ? "N·m" : "N");
 }
 
 sim::RigidJoint read_joint(const SceneBuilder& b, const Section& s) {

@@ -39,12 +39,33 @@ sim::RagdollDef read_ragdoll(const Section& s) {
     sim::RagdollDef d;
     d.height = s.positive("height", d.height, 100.0, "m");
     d.mass = s.positive("mass", d.mass, kHuge, "kg");
-    d.position = s.vec3("position", d.position, "m");
+    d.position = s.vec3("position", d.position, "m", sim::kMaxBodyReach);
     d.orientation = s.rotation();
     d.velocity = s.vec3("velocity", d.velocity, "m/s");
-    d.angular_velocity = s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s") * (std::numbers::pi / 180.0);
-    d.joint_friction = s.number("joint_friction", d.joint_friction, 0.0, kHuge, "N·m");
+    d.angular_velocity =
+        s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s", kMaxSpinDegrees) * (std::numbers::pi / 180.0);
+    d.joint_friction = s.number("joint_friction", d.joint_friction, 0.0, sim::kMaxJointForce, "N·m");
     return d;
+}
+
+// Each bone within what ODE takes: where it is follows position, its sizes
+// height, its mass mass.
+void refuse_bone_ode_cannot_take(const Section& s, const sim::BodyDef& body, sim::RagdollBone bone) {
+    if (!(body.position.cwiseAbs().maxCoeff() <= sim::kMaxBodyReach)) {
+        s.fail("position", "puts the " + std::string(sim::name(bone)) + " beyond +-" +
+                               sim::format_value(sim::kMaxBodyReach) + " m, past what ODE can place");
+    }
+    double mass = 0.0;
+    try {
+        mass = sim::mass_of(body);
+    } catch (const sim::InputError& e) {
+        s.fail("height", "makes the " + std::string(sim::name(bone)) + " too small or too large for ODE: " + e.what());
+    }
+    if (!(mass >= sim::kMinBodyMass && mass <= sim::kMaxBodyMass)) {
+        s.fail("mass", "gives the " + std::string(sim::name(bone)) + " " + sim::format_value(mass) +
+                           " kg; each bone's mass must be within " + sim::format_value(sim::kMinBodyMass) + " .. " +
+                           sim::format_value(sim::kMaxBodyMass) + " kg");
+    }
 }
 
 }  // namespace
@@ -60,6 +81,7 @@ void read_ragdolls(SceneBuilder& b, const Section& top) {
         const sim::RagdollParts made = sim::ragdoll_parts(d, static_cast<int>(m.bodies.size()));
         for (std::size_t i = 0; i < made.bodies.size(); ++i) {
             const auto bone = static_cast<sim::RagdollBone>(i);
+            refuse_bone_ode_cannot_take(s, made.bodies[i], bone);
             const std::string bone_name = name + "." + std::string(sim::name(bone));
             if (!b.body_index.emplace(bone_name, static_cast<int>(m.bodies.size())).second)
                 s.fail("name", "must be unique: " + quote(bone_name) + " is taken");

@@ -3,6 +3,7 @@
 // ODE world. Ragdolls and joints have their own readers.
 #include "scenes/model/scene_builder.h"
 
+#include <cstdio>
 #include <numbers>
 
 namespace scenes::loader {
@@ -18,12 +19,17 @@ sim::RigidShape shape_of(const Section& s) {
                                  : sim::RigidShape::box;
 }
 
-// A box's three extents; a sphere's radius; a capsule's or cylinder's radius and length.
+// A box's three extents; a sphere's radius; a capsule's or cylinder's radius
+// and length: each within what ODE takes (sim::kMinBodySize .. kMaxBodySize).
 sim::Vec3 size_of(const Section& s, sim::RigidShape shape, const sim::Vec3& fallback) {
     const sim::Vec3 size = s.vec3("size", fallback, "m");
     const int used = shape == sim::RigidShape::box ? 3 : shape == sim::RigidShape::sphere ? 1 : 2;
     for (int a = 0; a < used; ++a) {
-        if (!(size[a] > 0)) s.fail("size", "needs its first " + std::to_string(used) + " entries > 0, in m");
+        if (!(size[a] >= sim::kMinBodySize && size[a] <= sim::kMaxBodySize)) {
+            s.fail("size", "needs its first " + std::to_string(used) + " entries within " +
+                               sim::format_value(sim::kMinBodySize) + " .. " + sim::format_value(sim::kMaxBodySize) +
+                               ", in m (got " + sim::format_value(size[a]) + ")");
+        }
     }
     return size;
 }
@@ -38,7 +44,7 @@ void read_parts(const Section& s, sim::BodyDef& b) {
         sim::BodyPart part;
         part.shape = shape_of(ps);
         part.size = size_of(ps, part.shape, part.size);
-        part.offset = ps.vec3("offset", part.offset, "m");
+        part.offset = ps.vec3("offset", part.offset, "m", sim::kMaxBodySize);
         part.orientation = ps.rotation();
         part.density = ps.positive("density", part.density, kHuge, "kg/m³");
         b.parts.push_back(part);
@@ -52,13 +58,24 @@ sim::BodyDef read_body(const Section& s) {
     b.shape = shape_of(s);
     if (b.parts.empty()) b.size = size_of(s, b.shape, b.size);
     if (s.node("mass") != nullptr && s.node("density") != nullptr) s.fail("density", "and mass cannot both be given");
-    b.mass = s.node("density") != nullptr ? 0.0 : s.positive("mass", 1.0, kHuge, "kg");
+    b.mass = s.node("density") != nullptr ? 0.0 : s.number("mass", 1.0, sim::kMinBodyMass, sim::kMaxBodyMass, "kg");
     b.density = s.positive("density", b.density, kHuge, "kg/m³");
-    b.position = s.vec3("position", b.position, "m");
+    b.position = s.vec3("position", b.position, "m", sim::kMaxBodyReach);
     b.orientation = s.rotation();
     b.velocity = s.vec3("velocity", b.velocity, "m/s");
-    b.angular_velocity = s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s") * kDeg;
-    b.com = s.vec3("com", b.com, "m");
+    b.angular_velocity = s.vec3("angular_velocity", sim::Vec3::Zero(), "deg/s", kMaxSpinDegrees) * kDeg;
+    b.com = s.vec3("com", b.com, "m", sim::kMaxBodySize);
+    if (b.mass == 0.0) {  // the densities' mass (the parts' own, for a compound), within what ODE takes
+        const double mass = sim::mass_of(b);
+        if (!(mass >= sim::kMinBodyMass && mass <= sim::kMaxBodyMass)) {
+            char text[32];
+            std::snprintf(text, sizeof text, "%.3g", mass);
+            s.fail(b.parts.empty() ? "density" : "parts", std::string(b.parts.empty() ? "gives" : "give") +
+                                                              " a mass of " + text + " kg; a body's must be within " +
+                                                              sim::format_value(sim::kMinBodyMass) + " .. " +
+                                                              sim::format_value(sim::kMaxBodyMass) + " kg");
+        }
+    }
     return b;
 }
 
@@ -110,6 +127,16 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
     rs.self_collision = s.boolean("self_collision", rs.self_collision);
     rs.speculative_stops = s.boolean("speculative_stops", rs.speculative_stops);
     rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
+}
+
+void refuse_rigid_step_too_small(SceneBuilder& b, const Section& top) {
+    const sim::StepSettings& step = b.scene.step;
+    const toml::table* t = top.subtable("step");
+    if (b.scene.model.rigid.empty() || t == nullptr || step.dt / step.substeps >= sim::kMinRigidStep) return;
+    Section(b.r, *t, "step")
+        .fail("dt", "/ substeps must be at least " + sim::format_value(sim::kMinRigidStep) +
+                        " s with rigid bodies: ODE divides by the step (got " +
+                        sim::format_value(step.dt / step.substeps) + ")");
 }
 
 }  // namespace scenes::loader

@@ -24,7 +24,10 @@ void read_ropes(SceneBuilder& b, const Section& top) {
         const std::string name = s.string("name", "rope" + std::to_string(k), 64);
         add_body(b, s, BodyLook::Kind::rope, range, name, color, true, d.radius);
         // An explosion of this rope freezes it and the run goes on.
-        if (s.boolean("contain_explosion", false)) b.scene.watchdog.contain.push_back({name, range.first, range.count});
+        if (s.boolean("contain_explosion", false)) {
+            b.scene.watchdog.contain.push_back({name, range.first, range.count});
+            b.contained_ropes.push_back(s);
+        }
     }
 }
 

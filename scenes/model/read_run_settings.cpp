@@ -48,9 +48,31 @@ void read_step(SceneBuilder& b, const Section& top) {
     step.substeps = static_cast<int>(s.integer("substeps", 1, 1, kMaxSubsteps));
 }
 
+namespace {
+
+// A contained explosion is frozen where the rope was before it: a rope that
+// starts outside the world box would be frozen outside it, again and again.
+void refuse_contained_outside(const SceneBuilder& b) {
+    const sim::WatchdogLimits& w = b.scene.watchdog;
+    if (!w.enabled) return;
+    for (const Section& s : b.contained_ropes) {
+        const sim::RopeDef d;
+        for (const auto& [key, fallback] : {std::pair{"start", d.start}, std::pair{"end", d.end}}) {
+            const sim::Vec3 x = s.vec3(key, fallback, "m");
+            if (x.cwiseAbs().maxCoeff() <= w.world_half_extent) continue;
+            s.fail(key, "= [" + sim::format_value(x.x()) + ", " + sim::format_value(x.y()) + ", " +
+                            sim::format_value(x.z()) + "] is outside the world box (watchdog.world_half_extent = " +
+                            sim::format_value(w.world_half_extent) +
+                            " m): a rope with contain_explosion = true must start inside it");
+        }
+    }
+}
+
+}  // namespace
+
 void read_watchdog(SceneBuilder& b, const Section& top) {
     const toml::table* t = top.subtable("watchdog");
-    if (t == nullptr) return;
+    if (t == nullptr) return refuse_contained_outside(b);
     const Section s(b.r, *t, "watchdog");
     s.only(keys::watchdog);
     sim::WatchdogLimits& w = b.scene.watchdog;
@@ -62,6 +84,7 @@ void read_watchdog(SceneBuilder& b, const Section& top) {
         s.fail("energy_growth", "must be 0 (off) or >= 1 (got " + sim::format_value(w.energy_growth) + ")");
     }
     w.energy_floor = s.positive("energy_floor", w.energy_floor, kHuge, "J");
+    refuse_contained_outside(b);
 }
 
 }  // namespace scenes::loader

@@ -30,6 +30,9 @@ constexpr std::size_t kMaxSprings = 4'000'000;
 constexpr int kMaxCheckpoints = 16;
 constexpr int kMaxSubsteps = 10'000;
 constexpr double kMaxSleepTime = 1e6;  // s, [rigid] sleep_time: 11.6 days at rest (shipped scenes: 0.5)
+// deg/s, each component of a body's angular_velocity: the norm stays under
+// sim::kMaxBodySpin (1,745 rad/s a component, 3,023 at most).
+constexpr double kMaxSpinDegrees = 1e5;
 
 // How a pinned particle looks, whatever its body's colour.
 constexpr Color kPinnedColor{0.45f, 0.45f, 0.48f, 1};
@@ -43,6 +46,7 @@ struct SceneBuilder {
     std::map<std::string, std::size_t, std::less<>> particle_index;  // particle names
     std::map<std::string, int, std::less<>> body_index;              // rigid body names (model.rigid.bodies)
     std::vector<const toml::node*> joint_nodes;                      // where each of model.rigid.joints was written
+    std::vector<Section> contained_ropes;  // the [[ropes]] with contain_explosion, for read_watchdog's check
 
     // Registers a particle's name (none when empty); names are unique.
     void add_name(const Section& s, const std::string& name, std::size_t index);
@@ -89,6 +93,8 @@ void read_ragdolls(SceneBuilder& b, const Section& top);
 void read_chains(SceneBuilder& b, const Section& top);
 void read_joints(SceneBuilder& b, const Section& top);
 void read_rigid_settings(SceneBuilder& b, const Section& top);
+// step.dt / substeps at least sim::kMinRigidStep when there are rigid bodies.
+void refuse_rigid_step_too_small(SceneBuilder& b, const Section& top);
 void warn_jointed_mass_ratios(SceneBuilder& b);
 
 // [forces] and its sub-tables (read_forces.cpp).
@@ -98,7 +104,8 @@ void read_forces(SceneBuilder& b, const Section& top);
 void read_constraints(SceneBuilder& b, const Section& top);
 void read_collisions(SceneBuilder& b, const Section& top);
 
-// [watchdog] (read_run_settings.cpp); [camera] and [view] (read_camera_view.cpp).
+// [watchdog] (read_run_settings.cpp), and a contained rope inside its world box;
+// [camera] and [view] (read_camera_view.cpp).
 void read_watchdog(SceneBuilder& b, const Section& top);
 void read_camera(SceneBuilder& b, const Section& top);
 void read_view(SceneBuilder& b, const Section& top);

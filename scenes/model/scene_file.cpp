@@ -45,7 +45,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     scene.name = name;
     const Section top(reader, root, "");
     read_top(top, scene);
-    SceneBuilder b{reader, scene, {}, {}, {}};
+    SceneBuilder b{reader, scene, {}, {}, {}, {}};
     read_timing(b, top);
     read_step(b, top);
     read_particles(b, top);
@@ -58,6 +58,7 @@ SceneDef build(const toml::table& root, Reader& reader, const std::string& name)
     read_chains(b, top);
     read_joints(b, top);
     read_rigid_settings(b, top);
+    refuse_rigid_step_too_small(b, top);
     warn_jointed_mass_ratios(b);
     require_bodies(b, top);
     read_forces(b, top);

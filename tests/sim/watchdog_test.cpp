@@ -2,6 +2,7 @@
 // order, the limits' validation and the verdict's message.
 #include "sim/watchdog.h"
 #include "sim/error.h"
+#include "sim/rigid.h"
 
 #include <gtest/gtest.h>
 
@@ -161,6 +162,30 @@ TEST(Watchdog, BodiesNonFiniteThenSpeedThenBoundsNamingTheBody) {
     EXPECT_EQ(non_finite.quantity, "position") << "non-finite first";
     EXPECT_EQ(non_finite.index, 2u);
     EXPECT_FALSE(check_bodies(limits, {Vec3(0, 1, 0)}, {Vec3(3, 0, 0)}, 1).exploded());
+}
+
+// What ODE can step holds whatever the limits (issue 51): past kMaxBodyReach
+// its hash space aborts, and a spin past kMaxBodySpin overflows to NaN.
+TEST(Watchdog, BodiesPastWhatOdeCanStepExplodeWatchdogOrNot) {
+    WatchdogLimits off;
+    off.enabled = false;
+    const std::vector<Vec3> still = {Vec3::Zero(), Vec3::Zero()};
+    EXPECT_FALSE(check_bodies(off, {Vec3(0, 1, 0), Vec3(9e7, 0, 0)}, still, 1).exploded());
+    const Verdict far = check_bodies(off, {Vec3(0, 1, 0), Vec3(0, 0, -1.5e8)}, still, 2);
+    ASSERT_TRUE(far.exploded());
+    EXPECT_EQ(far.quantity, "bounds");
+    EXPECT_EQ(far.index, 1u);
+    EXPECT_EQ(far.limit, kMaxBodyReach);
+    const WatchdogLimits wide{.world_half_extent = 1e300};
+    EXPECT_EQ(check_bodies(wide, {Vec3(2e8, 0, 0)}, {Vec3::Zero()}, 3).quantity, "bounds");
+
+    const Verdict spin = check_bodies(off, {Vec3::Zero(), Vec3::Zero()}, still, 4, {Vec3(0, 9e3, 0), Vec3(0, 0, 2e4)});
+    ASSERT_TRUE(spin.exploded());
+    EXPECT_EQ(spin.index, 1u);
+    EXPECT_EQ(spin.message("inertia"),
+              "inertia: exploded at frame 4: body 1 spins at 2e+04 rad/s > 1e+04 rad/s, past what ODE can step");
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_EQ(check_bodies(off, {Vec3::Zero()}, {Vec3::Zero()}, 5, {Vec3(nan, 0, 0)}).quantity, "spin");
 }
 
 TEST(Watchdog, LimitsAreValidated) {

@@ -823,6 +823,26 @@ TEST(Watchdog, AContainedExplosionFreezesItsRangeAndTheRunGoesOn) {
     EXPECT_EQ(stopped.verdict().index, 1u);
 }
 
+// A contained range that starts outside the world box is frozen where it
+// was, still outside: the watchdog once froze it again without end (issue 51,
+// GBs of contained_ entries). Now the run stops at the first step, once contained.
+TEST(Watchdog, ARangeFrozenOutsideTheBoxStopsTheRunInsteadOfLooping) {
+    ParticleModel model;
+    model.particles.push_back({Vec3(0, 51, 0), Vec3::Zero(), 1.0, false});
+    model.particles.push_back({Vec3(0, 1, 0), Vec3::Zero(), 1.0, false});
+    World world(std::move(model));
+    WatchdogLimits limits;
+    limits.world_half_extent = 50.0;
+    limits.contain.push_back({"outside", 0, 1});
+    world.set_watchdog(limits);
+    world.step({Integrator::symplectic_euler, 1.0 / 60.0, 1});
+    ASSERT_TRUE(world.verdict().exploded());
+    EXPECT_EQ(world.verdict().quantity, "bounds");
+    EXPECT_EQ(world.verdict().index, 0u);
+    EXPECT_EQ(world.contained().size(), 1u) << "contained once, not again and again";
+    EXPECT_EQ(world.state().x.get(0), Vec3(0, 51, 0)) << "frozen where it started";
+}
+
 INSTANTIATE_TEST_SUITE_P(Every, Rewind,
                          testing::ValuesIn(std::vector<Integrator>{
                              Integrator::forward_euler, Integrator::symplectic_euler, Integrator::leapfrog,

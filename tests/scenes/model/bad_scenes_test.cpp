@@ -78,7 +78,7 @@ constexpr BadScene kCorpus[] = {
     {"wind_unknown_body.toml", 8, "forces.wind.bodies[0] names no cloth or soft body (got the string 'flag')"},
     {"restitution_above_one.toml", 7, "collisions.restitution must be within 0 .. 1"},
     {"control_end_before_start.toml", 9, "forces.control[0].end must be after start (got 1)"},
-    {"body_negative_mass.toml", 7, "bodies[0].mass must be > 0 and finite, in kg (got -5)"},
+    {"body_negative_mass.toml", 7, "bodies[0].mass must be within 0.001 .. 1e+06, in kg (got -5)"},
     {"body_parts_and_shape.toml", 6, "bodies[0].parts replace shape and size: give one or the other"},
     {"joint_unknown_body.toml", 10, "joints[0].b names no body (got 'frame')"},
     {"joint_unknown_type.toml", 11,
@@ -212,12 +212,103 @@ TEST(SetOverrides, BadValuesNameTheOverride) {
     r = run("run oscillator --set particles[1].mas=2", dir);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("did you mean 'mass'?"), std::string::npos) << r.err;
+    // An array's element is named by the override too, not by line 1 of the file.
+    r = run("run oscillator --set 'particles[0].position=[0,1e300,0]'", dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("error: --set particles[0].position=[0,1e300,0]: particles[0].position[1] must be"),
+              std::string::npos)
+        << r.err;
     r = run("run oscillator --integrator rk5", dir);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("step.integrator must be one of"), std::string::npos) << r.err;
     r = run("run no_such_scene", dir);
     EXPECT_EQ(r.exit_code, 2);
     EXPECT_NE(r.err.find("unknown scene 'no_such_scene'"), std::string::npos) << r.err;
+    fs::remove_all(dir);
+}
+
+// Issue 51, row 2: a rope whose explosion is contained, starting outside the
+// world box, was frozen outside it again and again (GBs, then std::bad_alloc).
+TEST(SetOverrides, AContainedRopeOutsideTheWorldBoxIsRefused) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_contained_outside_test";
+    fs::create_directories(dir);
+    Result r = run("run rope-stiff --set 'ropes[0].end=[1.2,51,0.5]' --frames 1", dir);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("--set ropes[0].end=[1.2,51,0.5]: ropes[0].end = [1.2, 51, 0.5] is outside the world box "
+                         "(watchdog.world_half_extent = 50 m): a rope with contain_explosion = true must start "
+                         "inside it"),
+              std::string::npos)
+        << r.err;
+    // The same rope not contained runs, and the watchdog stops it at once (exit 1).
+    r = run("run rope-stiff --set 'ropes[0].end=[1.2,51,0.5]' --set ropes[0].contain_explosion=false --frames 1", dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    fs::remove_all(dir);
+}
+
+// Issue 51, row 4: values the loader took that ODE's assertions abort on
+// (exit 134) are refused, naming the override and the range; the edges of
+// those ranges run.
+TEST(SetOverrides, ValuesOdeCannotTakeAreRefusedAndTheirEdgesRun) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_ode_ranges_test";
+    fs::create_directories(dir);
+    const std::pair<const char*, const char*> refused[] = {
+        {"ragdoll --set 'ragdolls[0].mass=1e-100'",
+         "--set ragdolls[0].mass=1e-100: ragdolls[0].mass gives the pelvis 1.42e-101 kg; each bone's mass must be "
+         "within 0.001 .. 1e+06 kg"},
+        {"stack --set 'bodies[7].mass=1e300'",
+         "--set bodies[7].mass=1e300: bodies[7].mass must be within 0.001 .. 1e+06, in kg (got 1e+300)"},
+        {"inertia --set 'bodies[2].parts[1].size=[10000,0.3,0]'",
+         "--set bodies[2].parts[1].size=[10000,0.3,0]: bodies[2].parts[1].size needs its first 2 entries within 0.001 "
+         ".. 1000, in m (got 10000)"},
+        {"inertia --set 'bodies[2].parts[1].size=[1000,0.3,0]'",
+         "bodies[2].parts give a mass of 9.42e+08 kg; a body's must be within 0.001 .. 1e+06 kg"},
+        // The mutation sweep's findings (tests/robustness/mutation_sweep.cpp).
+        {"inertia --set 'bodies[1].angular_velocity=[0,1e9,0]'",
+         "--set bodies[1].angular_velocity=[0,1e9,0]: bodies[1].angular_velocity[1] must be [x, y, z]: three finite "
+         "numbers in deg/s, within +-1e+05 (got 1e+09)"},
+        {"ragdoll --set 'ragdolls[0].joint_friction=1e300'",
+         "--set ragdolls[0].joint_friction=1e300: ragdolls[0].joint_friction must be within 0 .. 1e+09, in N·m "
+         "(got 1e+300)"},
+        {"ragdoll-pile --set step.dt=1e-300",
+         "--set step.dt=1e-300: step.dt / substeps must be at least 1e-09 s with rigid bodies: ODE divides by the "
+         "step (got 1e-300)"},
+        {"ragdoll --set 'ragdolls[0].position=[1e9,2.63,0]'",
+         "--set ragdolls[0].position=[1e9,2.63,0]: ragdolls[0].position[0] must be [x, y, z]: three finite numbers "
+         "in m, within +-1e+08 (got 1e+09)"},
+    };
+    for (const auto& [args, expected] : refused) {
+        const Result r = run("run " + std::string(args) + " --frames 30", dir);
+        EXPECT_EQ(r.exit_code, 2) << args << ": " << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << args << ": expected '" << expected << "' in " << r.err;
+    }
+    const char* edges[] = {
+        "ragdoll --set 'ragdolls[0].position=[9.9e7,2.63,0]'",
+        "stack --set 'bodies[7].mass=1e6'",
+        "stack --set 'bodies[7].mass=0.001'",
+        "inertia --set 'bodies[2].parts[1].size=[30,0.3,0]'",
+        "inertia --set 'bodies[2].parts[1].size=[0.001,0.3,0]'",
+        // Spun at the edge and stepped 10 s at a time: the gyroscopic RK4 in small steps, no overflow.
+        "inertia --set 'bodies[1].angular_velocity=[1e5,1e5,1e5]' --dt 10",
+        "ragdoll --set 'ragdolls[0].joint_friction=1e9'",
+        "ragdoll-pile --set step.dt=1e-9",
+    };
+    for (const char* args : edges) {
+        const Result r = run("run " + std::string(args) + " --frames 30", dir);
+        EXPECT_TRUE(r.exit_code == 0 || r.exit_code == 1) << args << ": exit " << r.exit_code << ": " << r.err;
+    }
+    fs::remove_all(dir);
+}
+
+// A body that flies past where ODE can place it stops the run (exit 1), even
+// with the watchdog off; ODE's hash space aborted on it (exit 134).
+TEST(SetOverrides, ABodyBeyondOdesReachStopsTheRunWatchdogOrNot) {
+    const fs::path dir = fs::temp_directory_path() / "plausible_ode_reach_test";
+    fs::create_directories(dir);
+    const Result r =
+        run("run stack --set 'bodies[8].position=[9.9e7,1,0]' --set 'bodies[8].velocity=[1e9,0,0]' "
+            "--set watchdog.enabled=false --frames 120",
+            dir);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
     fs::remove_all(dir);
 }
 

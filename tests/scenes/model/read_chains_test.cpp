@@ -259,8 +259,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadChain{"NoLinks", "", "links = 0\n", "bad.toml:9:9", "chains[0].links must be within 1 .. 10000 (got 0)"},
         BadChain{"LinksShorterThanTwoRadii", "", "radius = 0.1\nlink_length = 0.2\n", "bad.toml:10:15",
-                 "chains[0].link_length must be more than twice the radius (0.2 m): the capsule is [radius, "
-                 "link_length - 2 radius] (got 0.2)"},
+                 "chains[0].link_length must be more than twice the radius (0.2 m) by at least 0.001 m: the "
+                 "capsule is [radius, link_length - 2 radius] (got 0.2)"},
         BadChain{"ZeroDirection", "", "direction = [0, 0, 0]\n", "bad.toml:9:13",
                  "chains[0].direction must be a non-zero direction"},
         BadChain{"NameTakenByABody", "", "[[bodies]]\nname = \"link1\"\n", "bad.toml:7:8",
