@@ -174,8 +174,13 @@ constexpr double kLcpRowCubedSeconds = 6e-10;
 // The constraint rows of a joint: a ball holds 3; the others 5 or 6, with a limit's.
 double joint_rows(sim::JointType type) { return type == sim::JointType::ball ? 3.0 : 6.0; }
 
+// A resting box's contacts: four points of three rows (the normal, two of friction).
+constexpr double kContactRows = 12.0;
+
 // Σ rows³ over the islands the joints make (bodies joined directly or
-// through others; contacts join more at run time, which no load can know).
+// through others), and one island of the bodies no joint holds, kContactRows
+// each: touching, they join through their contacts (wrecking-ball's twelve
+// bricks at 400 substeps: 1.43 ms a substep measured, 1.9 estimated).
 double lcp_rows_cubed(const sim::RigidModel& rigid) {
     std::vector<int> parent(rigid.bodies.size());
     for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = static_cast<int>(k);
@@ -191,8 +196,14 @@ double lcp_rows_cubed(const sim::RigidModel& rigid) {
         if (j.b >= 0) parent[static_cast<std::size_t>(root(j.a))] = root(j.b);
     }
     std::vector<double> rows(rigid.bodies.size(), 0.0);
-    for (const sim::RigidJoint& j : rigid.joints) rows[static_cast<std::size_t>(root(j.a))] += joint_rows(j.joint.type);
-    double sum = 0.0;
+    std::vector<bool> jointed(rigid.bodies.size(), false);
+    for (const sim::RigidJoint& j : rigid.joints) {
+        rows[static_cast<std::size_t>(root(j.a))] += joint_rows(j.joint.type);
+        jointed[static_cast<std::size_t>(j.a)] = true;
+        if (j.b >= 0) jointed[static_cast<std::size_t>(j.b)] = true;
+    }
+    const double free_rows = kContactRows * static_cast<double>(std::count(jointed.begin(), jointed.end(), false));
+    double sum = free_rows * free_rows * free_rows;
     for (const double r : rows) sum += r * r * r;
     return sum;
 }

@@ -161,6 +161,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     const fs::path dir = argv[1];
+    if (!fs::is_directory(dir)) {
+        std::fprintf(stderr, "mutation_sweep: %s is not a folder of scenes\n", argv[1]);
+        return 2;
+    }
     std::size_t every = 1, jobs = 1;
     std::string only;
     Limits limits;
