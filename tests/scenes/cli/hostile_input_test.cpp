@@ -114,6 +114,15 @@ TEST(Outputs, AFailedWriteExitsTwoAndLeavesNothing) {
         EXPECT_NE(r.out.find("cannot write " + command.back()), std::string::npos) << r.out;
     }
     EXPECT_TRUE(fs::is_empty(dir.path())) << "a half-written file or a temporary was left";
+    // A PNG: render's frames, into a folder it makes.
+    const fs::path pngs = dir.path() / "pngs";
+    const test::Ran r = test::run(
+        {"prlimit", "--fsize=2000", kExe, "render", "cloth", "--frames", "0", "--size", "320x240", "--out", pngs});
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.out.find("cannot write " + (pngs / "cloth_f00000.png").string() + ": File too large"),
+              std::string::npos)
+        << r.out;
+    EXPECT_TRUE(fs::is_empty(pngs)) << "a half-written PNG or a temporary was left";
 }
 
 TEST(ExitCodes, PathsThatCannotBeUsedExitTwoNamingThem) {
