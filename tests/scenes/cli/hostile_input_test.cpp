@@ -162,8 +162,8 @@ TEST(ExitCodes, SetErrorsNameSetNotTheFile) {
 
 TEST(ExitCodes, ABackendThatIsNotHereIsBadInputNotAFailure) {
     const test::TempDir dir("hostile-backend");
-    const test::Ran r =
-        test::run({kExe, "render", "rope", "--backend", "gpu", "--frames", "0", "--size", "64x48", "--out", dir.path()});
+    const test::Ran r = test::run(
+        {kExe, "render", "rope", "--backend", "gpu", "--frames", "0", "--size", "64x48", "--out", dir.path()});
     EXPECT_TRUE(r.status == 0 || r.status == 2) << "0 with a GPU, 2 without: " << r.status << " " << r.out;
 }
 

@@ -80,7 +80,8 @@ std::string tampered(std::string b, int frame) {
 // the count u64).
 std::string state_edited(std::string b, int which) {
     return edited(std::move(b), [&](std::string& bytes, const std::string& tag, std::size_t payload) {
-        if (tag == "STAT" && which-- == 0) bytes[payload + 4 + 8 + 8] = static_cast<char>(bytes[payload + 4 + 8 + 8] ^ 1);
+        if (tag == "STAT" && which-- == 0)
+            bytes[payload + 4 + 8 + 8] = static_cast<char>(bytes[payload + 4 + 8 + 8] ^ 1);
     });
 }
 
