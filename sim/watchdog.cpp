@@ -164,20 +164,13 @@ Verdict check(const WatchdogLimits& limits, const ParticleState& state, double e
 Verdict check_bodies(const WatchdogLimits& limits, const std::vector<Vec3>& positions,
                      const std::vector<Vec3>& velocities, std::uint64_t frame,
                      const std::vector<Vec3>& angular_velocities) {
-    Verdict v;
-    if (limits.enabled && limits.world_half_extent <= kMaxBodyReach) {
-        v = first_violation(
-            limits, positions.size(), [&](std::size_t i) { return positions[i]; },
-            [&](std::size_t i) { return velocities[i]; }, frame);
-    } else {
-        // ODE cannot place a body past kMaxBodyReach (it aborts): watchdog or not, that stops the run.
-        WatchdogLimits ode;
-        ode.max_speed = limits.enabled ? limits.max_speed : std::numeric_limits<double>::max();
-        ode.world_half_extent = kMaxBodyReach;
-        v = first_violation(
-            ode, positions.size(), [&](std::size_t i) { return positions[i]; },
-            [&](std::size_t i) { return velocities[i]; }, frame);
-    }
+    // ODE cannot place a body past kMaxBodyReach (it aborts): watchdog or not, that stops the run.
+    WatchdogLimits held = limits;
+    if (!limits.enabled) held.max_speed = std::numeric_limits<double>::max(), held.world_half_extent = kMaxBodyReach;
+    held.world_half_extent = std::min(held.world_half_extent, kMaxBodyReach);
+    Verdict v = first_violation(
+        held, positions.size(), [&](std::size_t i) { return positions[i]; },
+        [&](std::size_t i) { return velocities[i]; }, frame);
     for (std::size_t i = 0; i < angular_velocities.size() && !v.exploded(); ++i) {
         const double spin = angular_velocities[i].norm();
         if (!(spin <= kMaxBodySpin)) v = exploded(frame, "spin", i, spin, kMaxBodySpin);
