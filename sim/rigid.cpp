@@ -500,6 +500,22 @@ double RigidWorld::potential_energy() const {
     return e;
 }
 
+Vec3 RigidWorld::momentum() const {
+    Vec3 p = Vec3::Zero();
+    for (const BodyId id : bodies()) p += mass(id) * state(id).velocity;
+    return p;
+}
+
+Vec3 RigidWorld::angular_momentum() const {
+    Vec3 l = Vec3::Zero();
+    for (const BodyId id : bodies()) {
+        const BodyState s = state(id);
+        const Eigen::Matrix3d R = s.orientation.toRotationMatrix();
+        l += s.position.cross(mass(id) * s.velocity) + R * inertia(id) * R.transpose() * s.angular_velocity;
+    }
+    return l;
+}
+
 std::uint64_t RigidWorld::hash() const {
     Fnv1a h;
     for (const auto& s : impl_->slots) {

@@ -281,6 +281,9 @@ public:
     std::vector<PlacedPart> placed_parts() const;
     double kinetic_energy() const;    // J, ½ m v² + ½ ωᵀ I ω over all bodies
     double potential_energy() const;  // J, -m g·x over all bodies
+    Vec3 momentum() const;            // kg·m/s, Σ m v over all bodies
+    // kg·m²/s, about the world origin: Σ x × m v + R I Rᵀ ω over all bodies.
+    Vec3 angular_momentum() const;
     // FNV-1a over every live body's position, orientation and velocities.
     std::uint64_t hash() const;
     // What ODE's solver reported while this world stepped (ODE prints these

@@ -40,12 +40,14 @@ struct RunArgs {
 // renamed at the end, so that an error or Ctrl+C leaves nothing behind.
 class CsvWriter {
 public:
-    // bodies: the scene has rigid bodies, whose rows carry their orientation
-    // and angular velocity in seven more columns (empty on particle rows).
+    // bodies: the scene has rigid bodies, whose rows carry their orientation,
+    // angular velocity, mass and inertia in fourteen more columns (empty on
+    // particle rows): enough to compute energy and momentum from the file.
     CsvWriter(const std::string& path, bool bodies) : file_(path), bodies_(bodies) {
         out_.open(file_.temporary(), std::ios::binary);
         if (!out_) throw file_.error(std::strerror(errno));
-        out_ << "frame,time,kind,id,x,y,z,vx,vy,vz" << (bodies_ ? ",qw,qx,qy,qz,wx,wy,wz" : "") << '\n';
+        out_ << "frame,time,kind,id,x,y,z,vx,vy,vz"
+             << (bodies_ ? ",qw,qx,qy,qz,wx,wy,wz,mass,ixx,iyy,izz,ixy,ixz,iyz" : "") << '\n';
         out_.precision(17);
     }
     CsvWriter(const CsvWriter&) = delete;
@@ -55,17 +57,19 @@ public:
         const sim::ParticleState& s = run.world().state();
         for (std::size_t i = 0; i < s.size(); ++i) {
             row(run.frame(), s.t, "particle", i, s.x.get(i), s.v.get(i));
-            out_ << (bodies_ ? ",,,,,,,\n" : "\n");
+            out_ << (bodies_ ? ",,,,,,,,,,,,,,\n" : "\n");
         }
         if (const sim::RigidWorld* rigid = run.world().rigid()) {
-            const auto bodies = rigid->body_states();
-            for (std::size_t k = 0; k < bodies.size(); ++k) {
-                const sim::BodyState& b = bodies[k];
+            const auto ids = rigid->bodies();
+            for (std::size_t k = 0; k < ids.size(); ++k) {
+                const sim::BodyState b = rigid->state(ids[k]);
                 row(run.frame(), s.t, "body", k, b.position, b.velocity);
                 const Eigen::Quaterniond& q = b.orientation;
                 const sim::Vec3& w = b.angular_velocity;
+                const Eigen::Matrix3d I = rigid->inertia(ids[k]);
                 out_ << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << w.x() << ',' << w.y()
-                     << ',' << w.z() << '\n';
+                     << ',' << w.z() << ',' << rigid->mass(ids[k]) << ',' << I(0, 0) << ',' << I(1, 1) << ',' << I(2, 2)
+                     << ',' << I(0, 1) << ',' << I(0, 2) << ',' << I(1, 2) << '\n';
             }
         }
         if (!out_) throw file_.error(std::strerror(errno));  // the disk full: stop now, not at the end
@@ -120,6 +124,17 @@ EnergyRange run_to_end(SceneRun& run, int frames, CsvWriter* csv, RunRecorder* r
 }
 
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json vector(const sim::Vec3& v) { return {number(v.x()), number(v.y()), number(v.z())}; }
+
+// The rigid bodies' totals at one frame: what --json reports at the first and
+// the last, so that a run's drift in them can be read without the CSV.
+struct RigidTotals {
+    double energy = 0.0;                     // J, kinetic + potential
+    sim::Vec3 momentum = sim::Vec3::Zero();  // kg·m/s
+    sim::Vec3 angular = sim::Vec3::Zero();   // kg·m²/s, about the world origin
+    explicit RigidTotals(const sim::RigidWorld& w)
+        : energy(w.kinetic_energy() + w.potential_energy()), momentum(w.momentum()), angular(w.angular_momentum()) {}
+};
 double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
 
 // ms per step of each system the World runs (docs/design.md: one entry per
@@ -156,6 +171,7 @@ struct Summary {
     double final_energy = 0.0;  // J
     nlohmann::json ms_per_step;
     std::optional<double> error;  // m, see ghost_error
+    std::optional<RigidTotals> rigid_first, rigid_last;
 };
 
 nlohmann::json verdict_json(const sim::Verdict& verdict, const std::string& scene) {
@@ -200,6 +216,12 @@ void print_json(const Summary& s) {
     j["force_evaluations"] = world.force_evaluations();
     if (s.error) j["position_error"] = number(*s.error);
     if (world.rigid() != nullptr) j["solver_messages"] = world.rigid()->solver_messages();
+    if (s.rigid_first && s.rigid_last) {
+        const RigidTotals &a = *s.rigid_first, &b = *s.rigid_last;
+        j["rigid"] = {{"energy", {{"first", number(a.energy)}, {"last", number(b.energy)}}},
+                      {"momentum", {{"first", vector(a.momentum)}, {"last", vector(b.momentum)}}},
+                      {"angular_momentum", {{"first", vector(a.angular)}, {"last", vector(b.angular)}}}};
+    }
     std::cout << j.dump() << "\n";
 }
 
@@ -254,6 +276,8 @@ int run_scene(const RunArgs& args) {
     std::optional<RunRecorder> recorder;
     // Refused before the run: a path that cannot be written, a run too long to record.
     if (args.record) check_output(*args.record), recorder.emplace(run, scene.frames);
+    std::optional<RigidTotals> rigid_first;
+    if (const sim::RigidWorld* rigid = run.world().rigid()) rigid_first.emplace(*rigid);
     const EnergyRange energy = run_to_end(run, scene.frames, csv ? &*csv : nullptr, recorder ? &*recorder : nullptr);
     if (csv) csv->commit();
     std::string recorded;  // what was written, and its size
@@ -266,8 +290,11 @@ int run_scene(const RunArgs& args) {
                    std::to_string(rec.states.size()) + " states (every " +
                    (rec.every == 1 ? std::string("frame") : std::to_string(rec.every) + " frames") + "), " + text;
     }
+    std::optional<RigidTotals> rigid_last;
+    if (const sim::RigidWorld* rigid = run.world().rigid()) rigid_last.emplace(*rigid);
     const Summary summary{
-        scene, run, energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run)};
+        scene,       run,       energy, run.world().energy(), ms_per_system(run.world()), ghost_error(scene, run),
+        rigid_first, rigid_last};
     if (args.json) {
         print_json(summary);
         if (!recorded.empty()) std::fprintf(stderr, "%s\n", recorded.c_str());  // stdout is the JSON
@@ -291,9 +318,10 @@ Command add_run(CLI::App& app) {
     args->scene.add_to(run);
     run->add_option("--csv", args->csv,
                     "Write frame,time,kind,id,x,y,z,vx,vy,vz per particle and rigid body per frame (s, m, m/s; a "
-                    "body's x is its centre of mass); with rigid bodies also qw,qx,qy,qz,wx,wy,wz: a body's "
-                    "orientation (unit quaternion, body to world) and angular velocity (rad/s, world frame), "
-                    "empty on particle rows");
+                    "body's x is its centre of mass); with rigid bodies also qw,qx,qy,qz,wx,wy,wz,mass,ixx,iyy,izz,"
+                    "ixy,ixz,iyz: a body's orientation (unit quaternion, body to world), angular velocity (rad/s, "
+                    "world frame), mass (kg) and inertia tensor about its centre of mass in its own frame "
+                    "(kg m2), empty on particle rows");
     run->add_option("--record", args->record,
                     "Write the run as a recording: the scene, the state hash after every frame (8 bytes a "
                     "frame) and the state every K frames (K grows with the run: the states stay within 2 MB, "
@@ -306,7 +334,9 @@ Command add_run(CLI::App& app) {
                   "of frames (the second, then enough to keep the clocks under 1% of the frames' time; null "
                   "for a run of one frame; springs on at most 4 particles are evaluated inside the particles' "
                   "step and counted there; a step under a microsecond reads longer than it runs, the clock reads "
-                  "stopping its overlap with the next: bench_sim times those)");
+                  "stopping its overlap with the next: bench_sim times those). With rigid bodies, rigid: their "
+                  "energy (J), momentum (kg m/s) and angular momentum about the origin (kg m2/s) at the first "
+                  "and the last frame");
     return {run, [args] { return run_scene(*args); }};
 }
 

@@ -4,11 +4,13 @@
 // frame to frame as the angular velocity says; and the columns show what a
 // teacher plots from them, the Dzhanibekov flip of the inertia scene (the
 // spin about the intermediate axis reverses in the body's frame, those about
-// the smallest and largest axes keep their sign). And `run --json`'s timing
-// of a run too short to sample.
+// the smallest and largest axes keep their sign); with each body's mass and
+// inertia, energy and momentum come from the CSV alone and agree with
+// `run --json`'s. And `run --json`'s timing of a run too short to sample.
 #include "tests/scenes/shell.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
 
@@ -38,6 +40,9 @@ std::vector<std::string> split(const std::string& line) {
 struct BodyRow {
     Eigen::Quaterniond q;
     Eigen::Vector3d w;  // rad/s, world frame
+    Eigen::Vector3d x, v;     // m, m/s
+    double mass = 0.0;        // kg
+    Eigen::Matrix3d inertia;  // kg·m², body frame
 };
 
 class RunCsv : public ::testing::Test {
@@ -68,14 +73,21 @@ TEST_F(RunCsv, BodyRowsCarryOrientationAndAngularVelocity) {
     constexpr int kFrames = 600;  // the inertia scene's 10 s
     const std::vector<std::string> lines = csv("inertia", kFrames);
     ASSERT_FALSE(lines.empty());
-    EXPECT_EQ(lines[0], "frame,time,kind,id,x,y,z,vx,vy,vz,qw,qx,qy,qz,wx,wy,wz") << "old columns first, in order";
+    EXPECT_EQ(lines[0], "frame,time,kind,id,x,y,z,vx,vy,vz,qw,qx,qy,qz,wx,wy,wz,mass,ixx,iyy,izz,ixy,ixz,iyz")
+        << "old columns first, in order";
     std::map<int, std::vector<BodyRow>> bodies;  // by id, frame by frame
     for (std::size_t i = 1; i < lines.size(); ++i) {
         const std::vector<std::string> c = split(lines[i]);
-        ASSERT_EQ(c.size(), 17u) << lines[i];
+        ASSERT_EQ(c.size(), 24u) << lines[i];
         ASSERT_EQ(c[2], "body") << "the inertia scene has no particles";
-        const BodyRow row{Eigen::Quaterniond(std::stod(c[10]), std::stod(c[11]), std::stod(c[12]), std::stod(c[13])),
-                          Eigen::Vector3d(std::stod(c[14]), std::stod(c[15]), std::stod(c[16]))};
+        auto d = [&](int k) { return std::stod(c[static_cast<std::size_t>(k)]); };
+        BodyRow row{Eigen::Quaterniond(d(10), d(11), d(12), d(13)),
+                    Eigen::Vector3d(d(14), d(15), d(16)),
+                    Eigen::Vector3d(d(4), d(5), d(6)),
+                    Eigen::Vector3d(d(7), d(8), d(9)),
+                    d(17),
+                    Eigen::Matrix3d::Zero()};
+        row.inertia << d(18), d(21), d(22), d(21), d(19), d(23), d(22), d(23), d(20);
         EXPECT_NEAR(row.q.norm(), 1.0, 1e-12) << "a unit quaternion: " << lines[i];
         bodies[std::stoi(c[3])].push_back(row);
     }
@@ -115,6 +127,49 @@ TEST_F(RunCsv, BodyRowsCarryOrientationAndAngularVelocity) {
     EXPECT_GE(flips(1, 0), 2) << "the Dzhanibekov flip: the intermediate axis reverses, and back";
     EXPECT_EQ(flips(0, 1), 0) << "the smallest axis is stable";
     EXPECT_EQ(flips(2, 2), 0) << "the largest axis is stable";
+}
+
+// Energy, momentum and angular momentum from the CSV's columns alone, at the
+// first and last frame, against what `run --json` reports for the same run
+// (the inertia scene: zero gravity, so the energy is kinetic).
+TEST_F(RunCsv, EnergyAndMomentumFromTheCsvAloneMatchRunJson) {
+    constexpr int kFrames = 120;
+    const std::vector<std::string> lines = csv("inertia", kFrames);
+    ASSERT_GT(lines.size(), 1u);
+    struct Totals {
+        double energy = 0.0;                          // J
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();  // kg·m/s
+        Eigen::Vector3d l = Eigen::Vector3d::Zero();  // kg·m²/s, about the origin
+    };
+    std::map<int, Totals> by_frame;
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const std::vector<std::string> c = split(lines[i]);
+        ASSERT_EQ(c.size(), 24u) << lines[i];
+        auto d = [&](int k) { return std::stod(c[static_cast<std::size_t>(k)]); };
+        const double m = d(17);
+        Eigen::Matrix3d I;
+        I << d(18), d(21), d(22), d(21), d(19), d(23), d(22), d(23), d(20);
+        const Eigen::Matrix3d R = Eigen::Quaterniond(d(10), d(11), d(12), d(13)).toRotationMatrix();
+        const Eigen::Vector3d x(d(4), d(5), d(6)), v(d(7), d(8), d(9)), w(d(14), d(15), d(16));
+        const Eigen::Matrix3d Iw = R * I * R.transpose();  // kg·m², world frame
+        Totals& t = by_frame[std::stoi(c[0])];
+        t.energy += 0.5 * m * v.squaredNorm() + 0.5 * w.dot(Iw * w);
+        t.p += m * v;
+        t.l += x.cross(m * v) + Iw * w;
+    }
+    const test::Ran r = test::run({PLAUSIBLE_EXE, "run", "inertia", "--frames", std::to_string(kFrames), "--json"});
+    ASSERT_EQ(r.status, 0) << r.out;
+    const nlohmann::json rigid = nlohmann::json::parse(r.out).at("rigid");
+    for (const auto& [when, frame] : {std::pair<const char*, int>{"first", 0}, {"last", kFrames}}) {
+        const Totals& t = by_frame.at(frame);
+        ASSERT_GT(t.energy, 1.0) << "J: the handles spin";
+        EXPECT_NEAR(rigid["energy"][when].get<double>(), t.energy, 1e-12 * t.energy) << when << " frame, J";
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(rigid["momentum"][when][k].get<double>(), t.p[k], 1e-12) << when << " frame, kg·m/s";
+            EXPECT_NEAR(rigid["angular_momentum"][when][k].get<double>(), t.l[k], 1e-12 * t.l.norm())
+                << when << " frame, kg·m²/s";
+        }
+    }
 }
 
 // `run --json`'s ms_per_step: the first frame is not timed (it pays once for
