@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <algorithm>
 #include <cstdlib>
 
@@ -27,6 +30,19 @@ DrawList ball_and_text() {
     return list;
 }
 
+// LeakSanitizer names a leak's owner by the library its stack lies in, but
+// glfwTerminate unloads the GL driver and the X libraries before the check:
+// pin every loaded library (RTLD_NODELETE) so tools/lsan.supp can name them.
+void keep_libraries_loaded() {
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void*) {
+            if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0')
+                dlopen(info->dlpi_name, RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE);
+            return 0;
+        },
+        nullptr);
+}
+
 // The window as drawn at `scale`: the frame stretched into it, overlays on top.
 Image in_window(Renderer& renderer, const DrawList& list, float scale) {
     renderer.draw(list, {.width = kWidth, .height = kHeight, .scale = scale});
@@ -38,6 +54,7 @@ TEST(Window, AScaledFrameKeepsItsTextAsSharpAsAWholeOne) {
     if (std::getenv("DISPLAY") == nullptr) GTEST_SKIP() << "no display: ctest runs this under xvfb-run";
     const auto context = create_context({.backend = Backend::glfw, .window_width = kWidth, .window_height = kHeight});
     Renderer renderer(*context);
+    keep_libraries_loaded();
     const DrawList list = ball_and_text();
     const Image whole = in_window(renderer, list, 1.0f);
     const Image half = in_window(renderer, list, 0.5f);

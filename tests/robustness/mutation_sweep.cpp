@@ -101,12 +101,24 @@ void walk(const toml::node& node, const std::string& path,
 struct Limits {
     int frames = 30;
     int seconds = 60;              // s of CPU
-    std::size_t memory_mb = 4096;  // MiB of address space
+    std::size_t memory_mb = 4096;  // MiB of address space, beyond what the child starts with
 };
+
+// The address space this process holds now, bytes (/proc/self/statm's first
+// field): under AddressSanitizer that is terabytes of reserved shadow, so a
+// limit counts from here, not from zero.
+rlim_t address_space_now() {
+    unsigned long pages = 0;
+    if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(f, "%lu", &pages) != 1) pages = 0;
+        std::fclose(f);
+    }
+    return static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE));
+}
 
 // The child: the variant through the command's path. Exit codes as `plausible run`'s.
 [[noreturn]] void run_child(const fs::path& file, const Variant& v, const Limits& limits) {
-    const rlim_t bytes = static_cast<rlim_t>(limits.memory_mb) << 20;
+    const rlim_t bytes = address_space_now() + (static_cast<rlim_t>(limits.memory_mb) << 20);
     const rlimit as{bytes, bytes};
     const rlimit cpu{static_cast<rlim_t>(limits.seconds), static_cast<rlim_t>(limits.seconds) + 1};
     setrlimit(RLIMIT_AS, &as);
