@@ -88,12 +88,16 @@ void validate(const RigidSettings& s) {
         throw InputError("rigid.restitution must be within 0 .. 1 (got " + format_value(s.restitution) + ")");
     }
     require_nonnegative(s.bounce_velocity, "rigid.bounce_velocity", "m/s");
-    if (!(s.erp > 0.0 && s.erp <= 1.0))
-        throw InputError("rigid.erp must be within 0 .. 1 (got " + format_value(s.erp) + ")");
-    require_nonnegative(s.cfm, "rigid.cfm", "");
+    for (const auto& [erp, name] : {std::pair{s.joint_erp, "joint_erp"}, {s.contact_erp, "contact_erp"}}) {
+        if (!(erp > 0.0 && erp <= 1.0))
+            throw InputError(std::string("rigid.") + name + " must be within 0 .. 1 (got " + format_value(erp) + ")");
+    }
+    require_nonnegative(s.joint_cfm, "rigid.joint_cfm", "");
+    require_nonnegative(s.contact_cfm, "rigid.contact_cfm", "");
     if (!std::isfinite(s.ground_height)) throw InputError("rigid.ground_height must be finite, in m");
     require_positive(s.sleep_speed, "rigid.sleep_speed", "m/s");
     require_positive(s.sleep_time, "rigid.sleep_time", "s");
+    require_nonnegative(s.position_slop, "rigid.position_slop", "m");
     if (s.position_iterations < 0 || s.position_iterations > 100) {
         throw InputError("rigid.position_iterations must be within 0 .. 100 (got " +
                          std::to_string(s.position_iterations) + ")");
@@ -164,8 +168,8 @@ RigidWorld::RigidWorld(const RigidSettings& settings) : impl_(std::make_unique<I
     m.settings = settings;
     m.world = dWorldCreate();
     dWorldSetGravity(m.world, settings.gravity.x(), settings.gravity.y(), settings.gravity.z());
-    dWorldSetERP(m.world, settings.erp);
-    dWorldSetCFM(m.world, settings.cfm);
+    dWorldSetERP(m.world, settings.joint_erp);  // contacts set their own
+    dWorldSetCFM(m.world, settings.joint_cfm);
     dWorldSetQuickStepNumIterations(m.world, settings.iterations);
     m.space = dHashSpaceCreate(nullptr);
     m.contact_group = dJointGroupCreate(0);

@@ -95,11 +95,19 @@ struct RigidSettings {
     double friction = 0.8;             // Coulomb μ of every contact
     double restitution = 0.1;          // 0 .. 1
     double bounce_velocity = 0.2;      // m/s: slower impacts do not bounce
-    double erp = 0.2;                  // error reduction per step (0 .. 1)
-    double cfm = 1e-5;                 // constraint force mixing (>= 0)
-    bool ground = true;                // a static plane y = ground_height
-    double ground_height = 0.0;        // m
-    std::uint64_t seed = 1;            // for quickstep's constraint order
+    // Joints: ODE's error reduction (a share of the gap closed per step) and
+    // constraint force mixing. Stiff and unsoftened, ODE's correction acts
+    // along the constraint at the step's start and keeps a swing's energy
+    // (docs/studies/rigid-closed-forms.md §1: 90° pendulum -38 % -> -1.7 %).
+    double joint_erp = 0.8;  // 0 .. 1
+    double joint_cfm = 0.0;  // >= 0
+    // Contacts and joint stops (the one-sided rows): softer, which keeps a
+    // stack from jittering and a ragdoll's limits from fighting its joints.
+    double contact_erp = 0.2;    // 0 .. 1
+    double contact_cfm = 1e-5;   // >= 0
+    bool ground = true;          // a static plane y = ground_height
+    double ground_height = 0.0;  // m
+    std::uint64_t seed = 1;      // for quickstep's constraint order
     // The gyroscopic term of Euler's equations, I ω̇ = -ω × I ω (what makes
     // a T-handle flip about its intermediate axis). ODE's own treatment is
     // implicit and dissipative: a free spin loses energy and settles about
@@ -109,11 +117,14 @@ struct RigidSettings {
     // spin are kept to O(h⁴) per step.
     bool gyroscopic_rk4 = true;
     // Position iterations after ODE's step (as Jolt's): each pulls every
-    // ball, hinge and universal joint's two anchors together by a nonlinear
-    // Gauss-Seidel pass over positions and orientations, velocities left
-    // alone. ODE alone corrects drift by ERP, a fifth per step, so a tumbling
-    // ragdoll's joints stand centimetres apart; 0: ODE alone.
+    // ball, hinge and universal joint's two anchors to within position_slop
+    // by a nonlinear Gauss-Seidel pass over positions and orientations,
+    // velocities left alone; 0: ODE alone. A tumbling ragdoll's joints then
+    // stand millimetres apart, not centimetres. The slop leaves a swing's
+    // small gap to ERP: pulled at the step's end, along the constraint there,
+    // it would lose about (ω h)² of the swing's energy a step (the study's §1).
     int position_iterations = 2;
+    double position_slop = 1e-3;  // m
     // Joint stops turned on a step early near a stop (Box2D's speculative
     // limits; see RigidWorld::Impl::speculative_stops): a limb hit hard stops
     // at its limit instead of swinging far past it and creeping back.

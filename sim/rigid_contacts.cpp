@@ -79,8 +79,8 @@ void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
         s.mu = self->settings.friction;
         s.bounce = self->settings.restitution;
         s.bounce_vel = self->settings.bounce_velocity;
-        s.soft_erp = self->settings.erp;
-        s.soft_cfm = self->settings.cfm;
+        s.soft_erp = self->settings.contact_erp;
+        s.soft_cfm = self->settings.contact_cfm;
         dJointID j = dJointCreateContact(self->world, self->contact_group, &contact[i]);
         dJointAttach(j, ba, bb);
         ++self->contacts;

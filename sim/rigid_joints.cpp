@@ -90,6 +90,10 @@ JointId RigidWorld::add_joint(const JointDef& def) {
         if (limits[axis][0] > limits[axis][1]) continue;
         Impl::set_param(made, dParamLoStop, limits[axis][0], axis);
         Impl::set_param(made, dParamHiStop, limits[axis][1], axis);
+        // A stop is one-sided, as a contact: as soft (stiff stops under a
+        // ragdoll's impact fight its joints, centimetres apart for seconds).
+        Impl::set_param(made, dParamStopERP, m.settings.contact_erp, axis);
+        Impl::set_param(made, dParamStopCFM, m.settings.contact_cfm, axis);
     }
     if (def.motor_max_force > 0.0) {
         for (int axis = 0; axis < limited_axes; ++axis) {
@@ -212,7 +216,7 @@ void RigidWorld::Impl::speculative_stops(double h) {
             if (lo > hi || !axis_motion(js, axis, position, rate)) continue;
             // Within reach of one stop only: less than half the range.
             const double reach = std::min(kMargin + 2.0 * h * std::abs(rate), 0.49 * (hi - lo));
-            double lo_now = lo, hi_now = hi, erp_now = settings.erp;  // ODE's default stop ERP
+            double lo_now = lo, hi_now = hi, erp_now = settings.contact_erp;  // a stop's own ERP (add_joint)
             if (position < hi && hi - position < reach) {
                 hi_now = 2.0 * position - hi;
                 erp_now = -1.0;

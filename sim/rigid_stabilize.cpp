@@ -40,8 +40,9 @@ void RigidWorld::Impl::gyroscopic(double h) {
 }
 
 // Position iterations (RigidSettings::position_iterations): for each
-// joint, the anchor gap C = |p2 - p1| along n is closed by a positional
-// impulse λ = C / (w1 + w2), with each body's generalised inverse mass
+// joint, the anchor gap beyond the slop, C = |p2 - p1| - slop along n, is
+// closed by a positional impulse λ = C / (w1 + w2), with each body's
+// generalised inverse mass
 // w = 1/m + (r × n)ᵀ I⁻¹ (r × n) (r: from its centre of mass to its
 // anchor): x += λ n / m, and a rotation I⁻¹ (r × λ n) applied to its
 // quaternion. A body asleep or the static world does not move.
@@ -86,9 +87,10 @@ void RigidWorld::Impl::stabilize() {
             Vec3 p1, p2;
             if (js.joint == nullptr || !anchors(js, p1, p2)) continue;
             const Vec3 gap = p2 - p1;
-            const double c = gap.norm();
-            if (c < 1e-12) continue;
-            const Vec3 n = gap / c;
+            const double length = gap.norm();
+            const double c = length - settings.position_slop;  // m, the part closed here
+            if (c <= 0.0) continue;
+            const Vec3 n = gap / length;
             const Side a = side(js.def.a), b = side(js.def.b);
             if (a.body == nullptr && b.body == nullptr) continue;
             const Vec3 ra = p1 - a.x, rb = p2 - b.x;

@@ -107,8 +107,10 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
     rs.friction = s.number("friction", rs.friction, 0.0, 1e6, "(Coulomb μ)");
     rs.restitution = s.number("restitution", rs.restitution, 0.0, 1.0, "(0 .. 1)");
     rs.bounce_velocity = s.number("bounce_velocity", rs.bounce_velocity, 0.0, kHuge, "m/s");
-    rs.erp = s.number("erp", rs.erp, 0.0, 1.0, "(0 .. 1)");
-    rs.cfm = s.number("cfm", rs.cfm, 0.0, kHuge, "(ODE's CFM)");
+    rs.joint_erp = s.number("joint_erp", rs.joint_erp, 0.0, 1.0, "(0 .. 1)");
+    rs.joint_cfm = s.number("joint_cfm", rs.joint_cfm, 0.0, kHuge, "(ODE's CFM)");
+    rs.contact_erp = s.number("contact_erp", rs.contact_erp, 0.0, 1.0, "(0 .. 1)");
+    rs.contact_cfm = s.number("contact_cfm", rs.contact_cfm, 0.0, kHuge, "(ODE's CFM)");
     rs.gravity = s.vec3("gravity", rs.gravity, "m/s²");
     rs.ground = s.boolean("ground", rs.ground);
     rs.ground_height = s.number("ground_height", rs.ground_height, -1e5, 1e5, "m");
@@ -127,6 +129,7 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
     rs.self_collision = s.boolean("self_collision", rs.self_collision);
     rs.speculative_stops = s.boolean("speculative_stops", rs.speculative_stops);
     rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
+    rs.position_slop = s.number("position_slop", rs.position_slop, 0.0, 1.0, "m");
 }
 
 void refuse_rigid_step_too_small(SceneBuilder& b, const Section& top) {

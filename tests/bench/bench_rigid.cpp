@@ -87,7 +87,7 @@ struct Raw {
     dWorldID world;
     dSpaceID space;
     dJointGroupID contacts;
-    double mu, bounce, bounce_vel, erp, cfm;
+    double mu, bounce, bounce_vel, contact_erp, contact_cfm;
 };
 
 void raw_near(void* data, dGeomID a, dGeomID b) {
@@ -102,8 +102,8 @@ void raw_near(void* data, dGeomID a, dGeomID b) {
         c[i].surface.mu = r->mu;
         c[i].surface.bounce = r->bounce;
         c[i].surface.bounce_vel = r->bounce_vel;
-        c[i].surface.soft_erp = r->erp;
-        c[i].surface.soft_cfm = r->cfm;
+        c[i].surface.soft_erp = r->contact_erp;
+        c[i].surface.soft_cfm = r->contact_cfm;
         dJointAttach(dJointCreateContact(r->world, r->contacts, &c[i]), ba, bb);
     }
 }
@@ -115,17 +115,11 @@ void RawOde(benchmark::State& state) {
     dAllocateODEDataForThread(dAllocateMaskAll);
     for (auto _ : state) {
         state.PauseTiming();
-        Raw r{dWorldCreate(),
-              dHashSpaceCreate(nullptr),
-              dJointGroupCreate(0),
-              s.friction,
-              s.restitution,
-              s.bounce_velocity,
-              s.erp,
-              s.cfm};
+        Raw r{dWorldCreate(), dHashSpaceCreate(nullptr), dJointGroupCreate(0), s.friction,
+              s.restitution,  s.bounce_velocity,         s.contact_erp,        s.contact_cfm};
         dWorldSetGravity(r.world, 0, -9.81, 0);
-        dWorldSetERP(r.world, s.erp);
-        dWorldSetCFM(r.world, s.cfm);
+        dWorldSetERP(r.world, s.joint_erp);
+        dWorldSetCFM(r.world, s.joint_cfm);
         dWorldSetQuickStepNumIterations(r.world, s.iterations);
         dCreatePlane(r.space, 0, 1, 0, 0);
         std::vector<dBodyID> bodies;

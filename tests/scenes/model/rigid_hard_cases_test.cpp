@@ -136,16 +136,21 @@ TEST(RigidHardCases, AHeavyBallOnALightChainStaysJointedAndGainsNoEnergy) {
     sim::World world(scene.model);
     const std::size_t joints = scene.model.rigid.joints.size();
     const double e0 = world.energy();
-    double worst = 0.0, e_max = e0;
+    double worst = 0.0, e_max_first = e0, e_max_last = e0;  // J, over each half of the run
     for (int f = 0; f < scene.frames; ++f) {
         world.step(scene.step);
         worst = std::max(worst, max_separation(*world.rigid(), joints));
+        double& e_max = 2 * f < scene.frames ? e_max_first : e_max_last;
         e_max = std::max(e_max, world.energy());
     }
     report("largest joint separation over 5 s", worst, "m");
-    report("largest energy gain over 5 s", (e_max - e0) / e0, "(of E0)");
+    report("largest energy gain over 5 s", (std::max(e_max_first, e_max_last) - e0) / e0, "(of E0)");
     EXPECT_LE(worst, 0.005) << "m: the 100:1 chain does not stretch";
-    EXPECT_LE(e_max, e0 * (1.0 + 1e-3)) << "J: no energy gain";
+    // Unsoftened joints (joint_cfm 0) keep the swing's energy: it oscillates
+    // by about ω h / 2 (0.2 % here, symplectic Euler's bounded error), no more,
+    // and the oscillation does not grow.
+    EXPECT_LE(std::max(e_max_first, e_max_last), e0 * (1.0 + 3e-3)) << "J: no energy gain past the oscillation";
+    EXPECT_LE(e_max_last, e_max_first + 1e-4 * e0) << "J: the second half's peak over the first's: no growth";
 }
 
 TEST(RigidHardCases, AFreeSpinningBodyKeepsItsAngularMomentum) {
