@@ -17,6 +17,15 @@ namespace {
 
 constexpr int kMaxContacts = 4;  // per colliding pair of geoms
 
+// How fast the two bodies close along the contact's normal, m/s (ODE's
+// normal points into body a, from b; a missing body is the static world).
+double closing_speed(const dContactGeom& c, dBodyID a, dBodyID b) {
+    dVector3 va = {0, 0, 0}, vb = {0, 0, 0};
+    if (a != nullptr) dBodyGetPointVel(a, c.pos[0], c.pos[1], c.pos[2], va);
+    if (b != nullptr) dBodyGetPointVel(b, c.pos[0], c.pos[1], c.pos[2], vb);
+    return -((va[0] - vb[0]) * c.normal[0] + (va[1] - vb[1]) * c.normal[1] + (va[2] - vb[2]) * c.normal[2]);
+}
+
 }  // namespace
 
 std::uint32_t RigidWorld::Impl::index_of(dBodyID body) {
@@ -80,7 +89,11 @@ void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
         s.bounce = self->settings.restitution;
         s.bounce_vel = self->settings.bounce_velocity;
         s.soft_erp = self->settings.contact_erp;
-        s.soft_cfm = self->settings.contact_cfm;
+        // An impact (closing faster than bounce_velocity) is a rigid row: a
+        // soft one gives back less than e, more so the smaller the step (the
+        // study's §3); a resting contact stays soft.
+        s.soft_cfm =
+            closing_speed(contact[i].geom, ba, bb) > self->settings.bounce_velocity ? 0.0 : self->settings.contact_cfm;
         dJointID j = dJointCreateContact(self->world, self->contact_group, &contact[i]);
         dJointAttach(j, ba, bb);
         ++self->contacts;

@@ -1,10 +1,10 @@
 // Rigid bodies against closed forms (issue 53), each at the shipped rigid
 // scenes' step (1/120 s) and at one 8x smaller, where the error must shrink:
 // a rod on a hinge (period against the small-angle and the elliptic-integral
-// forms, energy over 10 s) and four boxes ball-jointed in a row, spinning in
-// zero g (energy, |L| and momentum over 10 s). Sleep is off: a 1° swing is
-// slow enough for it. The cases and what each setting does to them are in
-// docs/studies/rigid-closed-forms.md.
+// forms, energy over 10 s), four boxes ball-jointed in a row, spinning in
+// zero g (energy, |L| and momentum over 10 s), and a bouncing sphere (apexes
+// against h0 e^(2n)). Sleep is off: a 1° swing is slow enough for it. The cases and what each setting does to them are
+// in docs/studies/rigid-closed-forms.md.
 #include "sim/rigid.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <vector>
 
 namespace sim::test {
 namespace {
@@ -160,6 +161,47 @@ TEST(RigidAccuracy, AnArticulatedBodyInZeroGravityKeepsItsEnergyAndMomentum) {
     EXPECT_LT(std::abs(fine.energy), 5e-3) << "relative, after 10 s at 1/960 s";
     EXPECT_LT(std::abs(fine.energy), std::abs(coarse.energy)) << "the energy error shrinks with the step";
     EXPECT_LT(std::abs(fine.angular), std::abs(coarse.angular)) << "the |L| error shrinks with the step";
+}
+
+// A 1 kg sphere of radius 0.1 m dropped with its bottom 1 m above the
+// ground, restitution e = 0.7: each bounce leaves at e times the speed it
+// came in at, so the n-th apex is h0 e^(2n) above the ground.
+std::vector<double> apexes(double h) {
+    constexpr double kRadius = 0.1;  // m
+    RigidWorld world({.restitution = 0.7, .bounce_velocity = 0.01, .sleep = false});
+    BodyDef ball;
+    ball.shape = RigidShape::sphere;
+    ball.size = Vec3(kRadius, 0, 0);
+    ball.mass = 1.0;
+    ball.position = Vec3(0, 1.0 + kRadius, 0);
+    const BodyId b = world.add_body(ball);
+    std::vector<double> out;  // m, of the ball's bottom
+    double vy = 0.0;
+    while (out.size() < 3 && world.steps() < static_cast<std::uint64_t>(10.0 / h)) {
+        world.step(h);
+        const BodyState s = world.state(b);
+        if (vy > 0.0 && s.velocity.y() <= 0.0) out.push_back(s.position.y() - kRadius);
+        vy = s.velocity.y();
+    }
+    return out;
+}
+
+TEST(RigidAccuracy, ABouncingSphereReachesHeightsOfESquaredToTheN) {
+    // Targets (issue 53): apex n within 4 % x n at 1/120 s, 1 % x n at 1/960 s.
+    const double e2 = 0.7 * 0.7;
+    const std::vector<double> coarse = apexes(1.0 / 120.0), fine = apexes(1.0 / 960.0);
+    ASSERT_EQ(coarse.size(), 3u);
+    ASSERT_EQ(fine.size(), 3u);
+    double sum_coarse = 0.0, sum_fine = 0.0;  // relative errors, summed over the apexes
+    for (int n = 1; n <= 3; ++n) {
+        const double exact = std::pow(e2, n);  // m, h0 = 1 m
+        const double ec = coarse[n - 1] / exact - 1.0, ef = fine[n - 1] / exact - 1.0;
+        std::printf("[ measured ] apex %d: %+.3f %% at h = 1/120 s, %+.3f %% at 1/960 s\n", n, 100.0 * ec, 100.0 * ef);
+        EXPECT_LT(std::abs(ec), 0.04 * n) << "relative, apex " << n << " against h0 e^(2n), h = 1/120 s";
+        EXPECT_LT(std::abs(ef), 0.01 * n) << "relative, apex " << n << " against h0 e^(2n), h = 1/960 s";
+        sum_coarse += std::abs(ec), sum_fine += std::abs(ef);
+    }
+    EXPECT_LT(sum_fine, sum_coarse) << "the apexes' error shrinks with the step";
 }
 
 }  // namespace
