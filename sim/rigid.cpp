@@ -174,6 +174,8 @@ RigidWorld::RigidWorld(const RigidSettings& settings) : impl_(std::make_unique<I
     m.space = dHashSpaceCreate(nullptr);
     m.contact_group = dJointGroupCreate(0);
     if (settings.ground) m.ground = dCreatePlane(m.space, 0, 1, 0, settings.ground_height);
+    if (m.ground != nullptr) m.statics.push_back(m.ground);
+    m.ray = dCreateRay(nullptr, 1.0);  // in no space: the swept test's alone
 }
 
 RigidWorld::RigidWorld(const RigidModel& model) : RigidWorld(model.settings) {
@@ -202,6 +204,7 @@ RigidWorld::~RigidWorld() {
         if (js.joint != nullptr) dJointDestroy(js.joint);
         if (js.amotor != nullptr) dJointDestroy(js.amotor);
     }
+    dGeomDestroy(m.ray);
     dJointGroupDestroy(m.contact_group);
     dSpaceDestroy(m.space);  // destroys its geoms (the space owns them by default)
     dWorldDestroy(m.world);  // and the bodies
@@ -352,19 +355,22 @@ void RigidWorld::add_static(const Collider& collider) {
         [&](const auto& c) {
             using T = std::decay_t<decltype(c)>;
             if constexpr (std::is_same_v<T, PlaneCollider>) {
-                dCreatePlane(m.space, c.normal.x(), c.normal.y(), c.normal.z(), c.offset);
+                m.statics.push_back(dCreatePlane(m.space, c.normal.x(), c.normal.y(), c.normal.z(), c.offset));
             } else if constexpr (std::is_same_v<T, SphereCollider>) {
                 dGeomID g = dCreateSphere(m.space, c.radius);
                 dGeomSetPosition(g, c.center.x(), c.center.y(), c.center.z());
+                m.statics.push_back(g);
             } else if constexpr (std::is_same_v<T, BoxCollider>) {
                 const Vec3 full = 2.0 * c.half_extents;
-                place(dCreateBox(m.space, full.x(), full.y(), full.z()), c.center, c.rotation);
+                m.statics.push_back(dCreateBox(m.space, full.x(), full.y(), full.z()));
+                place(m.statics.back(), c.center, c.rotation);
             } else {  // capsule: ODE's lies along its local z
                 const Vec3 axis = c.b - c.a;
                 const double length = axis.norm();
                 const Eigen::Matrix3d R =
                     length > 0.0 ? rotation_from_z(axis / length).toRotationMatrix() : Eigen::Matrix3d::Identity();
-                place(dCreateCapsule(m.space, c.radius, length), 0.5 * (c.a + c.b), R);
+                m.statics.push_back(dCreateCapsule(m.space, c.radius, length));
+                place(m.statics.back(), 0.5 * (c.a + c.b), R);
             }
         },
         collider);
@@ -402,6 +408,7 @@ void RigidWorld::step(double dt) {
     m.update_stops(dt);
     if (m.settings.speculative_stops) m.speculative_stops(dt);
     if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
+    m.remember_positions();
     m.contacts = 0;
     m.build_groups();
     dSpaceCollide(m.space, &m, &Impl::near_callback);
@@ -413,6 +420,7 @@ void RigidWorld::step(double dt) {
     }
     g_stepping = nullptr;
     dJointGroupEmpty(m.contact_group);
+    m.sweep();
     if (m.settings.position_iterations > 0) m.stabilize();
     if (m.settings.sleep) m.sleep(dt);
     ++m.steps;

@@ -100,4 +100,44 @@ void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
     }
 }
 
+void RigidWorld::Impl::remember_positions() {
+    for (Slot& s : slots) {
+        if (s.body != nullptr) s.before = to_vec(dBodyGetPosition(s.body));
+    }
+}
+
+void RigidWorld::Impl::sweep() {
+    if (statics.empty()) return;
+    for (Slot& s : slots) {
+        if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
+        double thinnest = kMaxBodySize;  // m, half extent or radius
+        for (const BodyPart& p : s.parts) {
+            thinnest = std::min(thinnest, p.shape == RigidShape::box ? 0.5 * p.size.minCoeff() : p.size.x());
+        }
+        const Vec3 to = to_vec(dBodyGetPosition(s.body));
+        const double travel = (to - s.before).norm();  // m
+        if (travel <= 0.5 * thinnest) continue;        // the contacts see it
+        const Vec3 dir = (to - s.before) / travel;
+        dGeomRaySetLength(ray, travel);
+        dGeomRaySet(ray, s.before.x(), s.before.y(), s.before.z(), dir.x(), dir.y(), dir.z());
+        double nearest = travel;  // m along the ray
+        Vec3 normal = Vec3::Zero();
+        for (const dGeomID g : statics) {
+            dContactGeom hit;
+            if (dCollide(ray, g, 1, &hit, sizeof hit) > 0 && hit.depth < nearest) {
+                nearest = hit.depth;
+                normal = to_vec(hit.normal);
+            }
+        }
+        if (normal == Vec3::Zero()) continue;
+        if (normal.dot(dir) > 0.0) normal = -normal;  // facing where it came from
+        const Vec3 x = s.before + nearest * dir + thinnest * normal;
+        Vec3 v = to_vec(dBodyGetLinearVel(s.body));
+        const double vn = v.dot(normal);  // m/s, < 0: into the surface
+        if (vn < 0.0) v -= (1.0 + (-vn > settings.bounce_velocity ? settings.restitution : 0.0)) * vn * normal;
+        dBodySetPosition(s.body, x.x(), x.y(), x.z());
+        dBodySetLinearVel(s.body, v.x(), v.y(), v.z());
+    }
+}
+
 }  // namespace sim

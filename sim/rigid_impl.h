@@ -50,6 +50,8 @@ struct RigidWorld::Impl {
     dSpaceID space = nullptr;
     dJointGroupID contact_group = nullptr;
     dGeomID ground = nullptr;
+    std::vector<dGeomID> statics;  // the ground and add_static's geoms: what the swept test sees
+    dGeomID ray = nullptr;         // the swept test's, in no space
     struct Slot {
         dBodyID body = nullptr;
         std::vector<dGeomID> geoms;   // one per part
@@ -62,7 +64,8 @@ struct RigidWorld::Impl {
         double sleep_energy = 0.0;          // J/kg, its group's smoothed kinetic energy per kilogram
         Vec3 rest_position = Vec3::Zero();  // where the window started
         Eigen::Quaterniond rest_orientation = Eigen::Quaterniond::Identity();
-        bool asleep = false;  // disabled by sleep (ODE may wake it)
+        bool asleep = false;         // disabled by sleep (ODE may wake it)
+        Vec3 before = Vec3::Zero();  // m, its centre of mass before this step (the swept test)
     };
     std::vector<Slot> slots;
     std::vector<std::uint32_t> free_slots;
@@ -145,6 +148,14 @@ struct RigidWorld::Impl {
     // anchor): x += λ n / m, and a rotation I⁻¹ (r × λ n) applied to its
     // quaternion. A body asleep or the static world does not move.
     void stabilize();
+    // The swept test (continuous collision against static geometry): a body
+    // that moved more than half its thinnest extent in the step is traced
+    // from where it was (remember_positions) to where it is by a ray against
+    // the ground and the static geoms; at the nearest hit it stops its
+    // thinnest half extent short, along the hit's normal, and its normal
+    // velocity bounces with the contacts' restitution (rigid_contacts.cpp).
+    void remember_positions();
+    void sweep();
 
     // Sleep (rigid_sleep.cpp).
     // Slow enough to fall asleep: the body's group's smoothed kinetic energy

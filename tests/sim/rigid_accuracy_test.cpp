@@ -2,13 +2,15 @@
 // scenes' step (1/120 s) and at one 8x smaller, where the error must shrink:
 // a rod on a hinge (period against the small-angle and the elliptic-integral
 // forms, energy over 10 s), four boxes ball-jointed in a row, spinning in
-// zero g (energy, |L| and momentum over 10 s), and a bouncing sphere (apexes
-// against h0 e^(2n)). Sleep is off: a 1° swing is slow enough for it. The cases and what each setting does to them are
-// in docs/studies/rigid-closed-forms.md.
+// zero g (energy, |L| and momentum over 10 s), a bouncing sphere (apexes
+// against h0 e^(2n)), and a small fast body at a thin wall and the ground.
+// Sleep is off: a 1° swing is slow enough for it. The cases and what each setting does to them are in
+// docs/studies/rigid-closed-forms.md.
 #include "sim/rigid.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -202,6 +204,61 @@ TEST(RigidAccuracy, ABouncingSphereReachesHeightsOfESquaredToTheN) {
         sum_coarse += std::abs(ec), sum_fine += std::abs(ef);
     }
     EXPECT_LT(sum_fine, sum_coarse) << "the apexes' error shrinks with the step";
+}
+
+// A small fast body (a sphere of radius r, 10 g, at 30 m/s) at a 1 cm thick
+// static wall, and straight down at the ground, from 16 starts spread over
+// one step's travel (where the impact falls inside a step): how many end
+// beyond the wall, and how deep its centre went below the ground's surface.
+struct FastBody {
+    int through = 0;       // of 16 starts
+    double deepest = 0.0;  // m, of the centre below the ground
+};
+
+FastBody fast_sphere(double radius, double h) {
+    constexpr double kSpeed = 30.0;  // m/s
+    constexpr int kStarts = 16;
+    FastBody out;
+    for (int k = 0; k < kStarts; ++k) {
+        const double offset = kSpeed * h * k / kStarts;  // m, within one step's travel
+        BodyDef ball;
+        ball.shape = RigidShape::sphere;
+        ball.size = Vec3(radius, 0, 0);
+        ball.mass = 0.01;
+        {  // the wall: a box 1 cm thick at x = 2 m, in zero g
+            RigidWorld world({.gravity = Vec3::Zero(), .ground = false, .sleep = false});
+            world.add_static(BoxCollider{.center = Vec3(2.0, 0, 0), .half_extents = Vec3(0.005, 1.0, 1.0)});
+            ball.position = Vec3(offset, 0, 0);
+            ball.velocity = Vec3(kSpeed, 0, 0);
+            const BodyId b = world.add_body(ball);
+            for (int i = 0; i < static_cast<int>(0.15 / h); ++i) world.step(h);
+            out.through += world.state(b).position.x() > 2.0;
+        }
+        {  // the ground, straight down
+            RigidWorld world({.sleep = false});
+            ball.position = Vec3(0, 2.0 + offset, 0);
+            ball.velocity = Vec3(0, -kSpeed, 0);
+            const BodyId b = world.add_body(ball);
+            for (int i = 0; i < static_cast<int>(0.3 / h); ++i) {
+                world.step(h);
+                out.deepest = std::max(out.deepest, -world.state(b).position.y());
+            }
+        }
+    }
+    return out;
+}
+
+TEST(RigidAccuracy, AFastSmallBodyStopsAtAThinWallAndTheGround) {
+    // Target (issue 53): nothing passes through at 30 m/s, down to 1 cm.
+    for (const double radius : {0.005, 0.01}) {
+        for (const double h : {1.0 / 120.0, 1.0 / 960.0}) {
+            const FastBody f = fast_sphere(radius, h);
+            std::printf("[ measured ] r = %g m, h = 1/%.0f s: %d of 16 through the wall, centre %.3g m below ground\n",
+                        radius, 1.0 / h, f.through, f.deepest);
+            EXPECT_EQ(f.through, 0) << "of 16 starts through a 1 cm wall, r = " << radius << " m, h = " << h << " s";
+            EXPECT_LE(f.deepest, 0.0) << "m, the centre below the ground, r = " << radius << " m, h = " << h << " s";
+        }
+    }
 }
 
 }  // namespace
