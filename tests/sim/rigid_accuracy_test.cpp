@@ -165,6 +165,75 @@ TEST(RigidAccuracy, AnArticulatedBodyInZeroGravityKeepsItsEnergyAndMomentum) {
     EXPECT_LT(std::abs(fine.angular), std::abs(coarse.angular)) << "the |L| error shrinks with the step";
 }
 
+// A free box 0.1 x 0.3 x 0.5 m, 1 kg, in zero g, spun about its intermediate
+// axis (y) with a small push about the others: energy and L (size and
+// direction, world frame) are conserved, and the spin about y reverses at
+// the interval Euler's equations give (Landau & Lifshitz §37): with
+// I1 < I2 < I3, for L² < 2 E I2, ω2 ∝ sn(τ, k) with
+//   τ = t √((I2 - I1)(2 E I3 - L²) / (I1 I2 I3)),
+//   k² = (I3 - I2)(L² - 2 E I1) / ((I2 - I1)(2 E I3 - L²)),
+// (1 and 3 swapped for L² > 2 E I2), so it changes sign every 2 K(k) in τ.
+struct FreeSpin {
+    double energy = 0.0, momentum = 0.0, turn = 0.0;  // relative, relative, rad
+    double flip = 0.0;                                // s, mean time between reversals
+    double exact_flip = 0.0;                          // s, from the formula
+};
+
+FreeSpin free_spin(double h) {
+    RigidWorld world({.gravity = Vec3::Zero(), .ground = false, .sleep = false});
+    BodyDef box;
+    box.size = Vec3(0.1, 0.3, 0.5);
+    box.mass = 1.0;
+    box.angular_velocity = Vec3(0.05, 5.0, 0.05);  // rad/s, body frame = world frame at the start
+    const BodyId b = world.add_body(box);
+    const Eigen::Matrix3d I = world.inertia(b);
+    const double I1 = I(2, 2), I2 = I(1, 1), I3 = I(0, 0);  // kg·m²: z < y < x
+    const Vec3 w = box.angular_velocity;
+    const double E = 0.5 * w.dot(I * w), L2 = (I * w).squaredNorm();
+    FreeSpin out;
+    const bool below = L2 < 2.0 * E * I2;
+    const double a = below ? I1 : I3, c = below ? I3 : I1;                                    // the roles of 1 and 3
+    const double rate = std::sqrt(std::abs((I2 - a) * (2.0 * E * c - L2)) / (I1 * I2 * I3));  // 1/s, dτ/dt
+    const double k2 = (c - I2) * (L2 - 2.0 * E * a) / ((I2 - a) * (2.0 * E * c - L2));
+    out.exact_flip = 2.0 * elliptic_k(std::sqrt(k2)) / rate;
+    const Vec3 l0 = world.angular_momentum();
+    std::vector<double> flips;  // s
+    double before = w.y();
+    const int steps = static_cast<int>(std::lround(20.0 / h));
+    for (int i = 1; i <= steps; ++i) {
+        world.step(h);
+        const BodyState s = world.state(b);
+        const double now = (s.orientation.conjugate() * s.angular_velocity).y();  // rad/s, body frame
+        if ((before > 0.0) != (now > 0.0)) flips.push_back(h * (i - 1 + before / (before - now)));
+        before = now;
+    }
+    if (flips.size() >= 2) out.flip = (flips.back() - flips.front()) / static_cast<double>(flips.size() - 1);
+    const Vec3 l = world.angular_momentum();
+    out.energy = world.kinetic_energy() / E - 1.0;
+    out.momentum = l.norm() / l0.norm() - 1.0;
+    out.turn = std::acos(std::min(1.0, l.dot(l0) / (l.norm() * l0.norm())));
+    return out;
+}
+
+TEST(RigidAccuracy, AFreeAsymmetricBodyKeepsEAndLAndFlipsAtEulersInterval) {
+    const FreeSpin coarse = free_spin(1.0 / 120.0), fine = free_spin(1.0 / 960.0);
+    for (const auto& [f, h] : {std::pair{coarse, 1.0 / 120.0}, {fine, 1.0 / 960.0}}) {
+        report("energy change over 20 s", h, f.energy, "(relative)");
+        report("|L| change over 20 s", h, f.momentum, "(relative)");
+        report("L's turn over 20 s", h, f.turn * 180.0 / kPi, "deg");
+        report("flip interval error", h, 100.0 * (f.flip / f.exact_flip - 1.0), "%");
+        EXPECT_LT(std::abs(f.energy), 1e-6) << "relative, h = " << h << " s";
+        EXPECT_LT(std::abs(f.momentum), 1e-6) << "relative, h = " << h << " s";
+        EXPECT_LT(f.turn, 0.5 * kPi / 180.0) << "rad, the direction of L, h = " << h << " s";
+        EXPECT_LT(std::abs(f.flip / f.exact_flip - 1.0), 1e-3) << "relative, against 2 K(k) / (dτ/dt), h = " << h;
+    }
+    EXPECT_GT(coarse.exact_flip, 1.0) << "s: several flips in 20 s, not one";
+    EXPECT_LT(coarse.exact_flip, 5.0) << "s: several flips in 20 s";
+    EXPECT_LT(std::abs(fine.flip / fine.exact_flip - 1.0), std::abs(coarse.flip / coarse.exact_flip - 1.0))
+        << "the flip interval's error shrinks with the step";
+    EXPECT_LT(fine.turn, coarse.turn) << "the turn of L shrinks with the step";
+}
+
 // A 1 kg sphere of radius 0.1 m dropped with its bottom 1 m above the
 // ground, restitution e = 0.7: each bounce leaves at e times the speed it
 // came in at, so the n-th apex is h0 e^(2n) above the ground.
