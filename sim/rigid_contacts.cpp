@@ -84,7 +84,10 @@ void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
     }
     for (int i = 0; i < n; ++i) {
         dSurfaceParameters& s = contact[i].surface;
-        s.mode = dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+        // Slip is ODE's CFM on the friction rows (which else take the world's,
+        // the joints' 0): as soft as the normal row, which keeps a stack still.
+        s.mode = dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2;
+        s.slip1 = s.slip2 = self->settings.contact_cfm;
         s.mu = self->settings.friction;
         s.bounce = self->settings.restitution;
         s.bounce_vel = self->settings.bounce_velocity;

@@ -98,7 +98,9 @@ void raw_near(void* data, dGeomID a, dGeomID b) {
     dContact c[4];
     const int n = dCollide(a, b, 4, &c[0].geom, sizeof(dContact));
     for (int i = 0; i < n; ++i) {
-        c[i].surface.mode = dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+        c[i].surface.mode =
+            dContactBounce | dContactApprox1 | dContactSoftERP | dContactSoftCFM | dContactSlip1 | dContactSlip2;
+        c[i].surface.slip1 = c[i].surface.slip2 = r->contact_cfm;
         c[i].surface.mu = r->mu;
         c[i].surface.bounce = r->bounce;
         c[i].surface.bounce_vel = r->bounce_vel;
