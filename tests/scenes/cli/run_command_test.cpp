@@ -39,7 +39,7 @@ std::vector<std::string> split(const std::string& line) {
 
 struct BodyRow {
     Eigen::Quaterniond q;
-    Eigen::Vector3d w;  // rad/s, world frame
+    Eigen::Vector3d w;        // rad/s, world frame
     Eigen::Vector3d x, v;     // m, m/s
     double mass = 0.0;        // kg
     Eigen::Matrix3d inertia;  // kg·m², body frame
