@@ -408,7 +408,7 @@ void RigidWorld::step(double dt) {
     m.update_stops(dt);
     if (m.settings.speculative_stops) m.speculative_stops(dt);
     if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
-    m.remember_positions();
+    m.begin_step();
     m.contacts = 0;
     m.build_groups();
     dSpaceCollide(m.space, &m, &Impl::near_callback);

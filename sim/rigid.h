@@ -140,7 +140,9 @@ struct RigidSettings {
     // moved no farther than sleep_speed · sleep_time (its mean speed: the
     // iterative solver's jitter in a pile averages out) and has a kinetic
     // energy per kilogram under that of twice sleep_speed, both weighted by
-    // mass, is disabled: not stepped, not counted as moving, until a contact
+    // mass (hung from the world and touching nothing, so without the
+    // solver's jitter: under that of a tenth of sleep_speed at every step,
+    // or a pendulum sleeps at a turn), is disabled: not stepped, not counted as moving, until a contact
     // from a moving body or an awake jointed body wakes it. PhysX's default
     // threshold is 0.1 m/s too.
     bool sleep = true;

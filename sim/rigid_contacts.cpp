@@ -101,11 +101,16 @@ void RigidWorld::Impl::near_callback(void* data, dGeomID a, dGeomID b) {
         dJointAttach(j, ba, bb);
         ++self->contacts;
     }
+    for (const dBodyID body : {ba, bb}) {
+        if (body != nullptr) self->slots[index_of(body)].touched = true;
+    }
 }
 
-void RigidWorld::Impl::remember_positions() {
+void RigidWorld::Impl::begin_step() {
     for (Slot& s : slots) {
-        if (s.body != nullptr) s.before = to_vec(dBodyGetPosition(s.body));
+        if (s.body == nullptr) continue;
+        s.before = to_vec(dBodyGetPosition(s.body));
+        s.touched = false;
     }
 }
 

@@ -66,6 +66,7 @@ struct RigidWorld::Impl {
         Eigen::Quaterniond rest_orientation = Eigen::Quaterniond::Identity();
         bool asleep = false;         // disabled by sleep (ODE may wake it)
         Vec3 before = Vec3::Zero();  // m, its centre of mass before this step (the swept test)
+        bool touched = false;        // a contact this step (sleep: a group touching nothing has no jitter)
     };
     std::vector<Slot> slots;
     std::vector<std::uint32_t> free_slots;
@@ -84,6 +85,8 @@ struct RigidWorld::Impl {
     std::vector<std::uint32_t> group_of;                        // union-find parents over body slots: jointed groups
     std::vector<double> group_energy, group_moved, group_mass;  // sleep's scratch, by group root
     std::vector<char> group_woken;                              // ... and whether its window starts again this step
+    std::vector<char> group_touched;                            // ... whether it touched anything this step
+    std::vector<char> group_hung;                               // ... and whether a joint holds it to the world
 
     const Slot& slot(BodyId id) const {
         if (id.index >= slots.size() || slots[id.index].body == nullptr ||
@@ -150,11 +153,12 @@ struct RigidWorld::Impl {
     void stabilize();
     // The swept test (continuous collision against static geometry): a body
     // that moved more than half its thinnest extent in the step is traced
-    // from where it was (remember_positions) to where it is by a ray against
+    // from where it was (begin_step) to where it is by a ray against
     // the ground and the static geoms; at the nearest hit it stops its
     // thinnest half extent short, along the hit's normal, and its normal
     // velocity bounces with the contacts' restitution (rigid_contacts.cpp).
-    void remember_positions();
+    // Before the step: each body's position (the swept test), no contact yet.
+    void begin_step();
     void sweep();
 
     // Sleep (rigid_sleep.cpp).
@@ -170,20 +174,8 @@ struct RigidWorld::Impl {
     // How far a body has moved from its rest pose, weighted: m |Δx|² + Δθᵀ I Δθ
     // (kg·m²), Δθ its turn in its own frame.
     double displacement(const Slot& s) const;
-    // Sleep, by group of jointed bodies (a whole ragdoll, or one free body),
-    // both weighted by mass so that a light hand does not keep a 70 kg
-    // ragdoll awake:
-    //  - its kinetic energy per kilogram, smoothed over a quarter of
-    //    sleep_time, is under that of twice sleep_speed (½ (2 v)²), and
-    //  - it has not moved, since it became idle, farther than sleep_speed ·
-    //    sleep_time (the mass-weighted RMS of its bodies' displacements and
-    //    turns): the mean speed over the window, as ODE averages velocity
-    //    samples, so that the iterative solver's jitter in a pile (which
-    //    never stops, and averages to nothing) counts as rest and a slow
-    //    creep does not.
-    // A group idle for sleep_time is disabled at rest. A group that ODE
-    // re-enabled (a contact, a joint to an awake body) starts again. Each
-    // body keeps its group's figures, so that body_states() carries them.
+    // Puts to sleep the groups at rest for sleep_time; the rule is written
+    // above its definition.
     void sleep(double h);
 };
 

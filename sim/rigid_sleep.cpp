@@ -67,13 +67,17 @@ double RigidWorld::Impl::displacement(const Slot& s) const {
 //    turns): the mean speed over the window, as ODE averages velocity
 //    samples, so that the iterative solver's jitter in a pile (which
 //    never stops, and averages to nothing) counts as rest and a slow
-//    creep does not.
+//    creep does not;
+//  - hung from the world by a joint and touching nothing this step (no
+//    jitter to forgive), its kinetic energy per kilogram now under that
+//    of a tenth of sleep_speed.
 // A group idle for sleep_time is disabled at rest. A group that ODE
 // re-enabled (a contact, a joint to an awake body) starts again. Each
 // body keeps its group's figures, so that body_states() carries them.
 void RigidWorld::Impl::sleep(double h) {
-    const double energy_limit = 2.0 * settings.sleep_speed * settings.sleep_speed;  // J/kg, ½ (2 v)²
-    const double reach = settings.sleep_speed * settings.sleep_time;                // m
+    const double energy_limit = 2.0 * settings.sleep_speed * settings.sleep_speed;        // J/kg, ½ (2 v)²
+    const double still_limit = 0.5 * 0.01 * settings.sleep_speed * settings.sleep_speed;  // J/kg, ½ (v/10)²
+    const double reach = settings.sleep_speed * settings.sleep_time;                      // m
     const double blend = std::min(1.0, h / (0.25 * settings.sleep_time));
     // Steps idle before sleep, kept a double: sleep_time / h is any positive
     // number (1e300 s over 1 ms is 1e303 steps, no integer holds it; such a
@@ -84,6 +88,11 @@ void RigidWorld::Impl::sleep(double h) {
     group_moved.assign(slots.size(), 0.0);
     group_mass.assign(slots.size(), 0.0);
     group_woken.assign(slots.size(), 0);
+    group_touched.assign(slots.size(), 0);
+    group_hung.assign(slots.size(), 0);
+    for (const JointSlot& js : joints) {
+        if (js.joint != nullptr && js.def.b == BodyId{}) group_hung[find(js.def.a.index)] = 1;
+    }
     for (std::uint32_t i = 0; i < slots.size(); ++i) {
         Slot& s = slots[i];
         if (s.body == nullptr || !dBodyIsEnabled(s.body)) continue;
@@ -92,6 +101,7 @@ void RigidWorld::Impl::sleep(double h) {
         group_moved[root] += displacement(s);
         group_mass[root] += s.mass;
         if (s.asleep) group_woken[root] = 1;
+        if (s.touched) group_touched[root] = 1;
         s.asleep = false;
     }
     for (std::uint32_t i = 0; i < slots.size(); ++i) {
@@ -102,7 +112,11 @@ void RigidWorld::Impl::sleep(double h) {
             const double e = group_energy[root] / group_mass[root];
             const double moved = std::sqrt(group_moved[root] / group_mass[root]);
             s.sleep_energy = group_woken[root] != 0 ? e : s.sleep_energy + blend * (e - s.sleep_energy);
-            if (group_woken[root] == 0 && s.idle_steps > 0 && moved <= reach) {
+            // Hung from the world and touching nothing, a group has no
+            // solver jitter to forgive: it must be still now (a swing is slow
+            // only near its turns).
+            const bool swinging = group_hung[root] != 0 && group_touched[root] == 0 && e > still_limit;
+            if (group_woken[root] == 0 && s.idle_steps > 0 && moved <= reach && !swinging) {
                 // Saturating, not wrapping to 0 (which would start a new
                 // window): a window of 2³² steps or more then never ends.
                 constexpr std::uint32_t kMost = std::numeric_limits<std::uint32_t>::max();

@@ -4,7 +4,8 @@
 // forms, energy over 10 s), four boxes ball-jointed in a row, spinning in
 // zero g (energy, |L| and momentum over 10 s), a bouncing sphere (apexes
 // against h0 e^(2n)), and a small fast body at a thin wall and the ground.
-// Sleep is off: a 1° swing is slow enough for it. The cases and what each setting does to them are in
+// The rod swings with sleep on, as a scene gets it (a 1° swing must stay
+// awake); the other cases turn it off. The cases and what each setting does to them are in
 // docs/studies/rigid-closed-forms.md.
 #include "sim/rigid.h"
 
@@ -56,7 +57,7 @@ struct Swing {
 };
 
 Swing swing(double theta0, double h) {
-    RigidWorld world({.ground = false, .sleep = false});
+    RigidWorld world({.ground = false});
     BodyDef rod;
     rod.size = Vec3(Rod::width, Rod::length, Rod::width);
     rod.mass = Rod::m;

@@ -265,6 +265,31 @@ TEST(Rigid, ABodyAtRestSleepsAndABlowWakesIt) {
     EXPECT_GT(world.state(target).position.x() - rest.x(), 0.05) << "m: and it was pushed";
 }
 
+// A pendulum is slow only near its turns, and touches nothing: a 1° swing
+// (3.3 cm/s at the bottom) stays awake, one hanging still sleeps.
+TEST(Rigid, AGentleSwingStaysAwakeAndAStillPendulumSleeps) {
+    for (const double theta0 : {0.0, 1.0}) {  // deg
+        RigidWorld world({.ground = false});
+        const double th = theta0 * std::numbers::pi / 180.0;
+        BodyDef rod;
+        rod.size = Vec3(0.1, 1.0, 0.1);
+        rod.position = 0.5 * Vec3(std::sin(th), -std::cos(th), 0.0);
+        rod.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(th, Vec3::UnitZ()));
+        const BodyId b = world.add_body(rod);
+        world.add_joint({.type = JointType::hinge, .a = b, .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()});
+        int asleep_at = -1;
+        for (int i = 1; i <= 1200 && asleep_at < 0; ++i) {
+            world.step(1.0 / 120.0);
+            if (!world.awake(b)) asleep_at = i;
+        }
+        if (theta0 == 0.0) {
+            EXPECT_GT(asleep_at, 0) << "hanging still: asleep within 10 s";
+        } else {
+            EXPECT_EQ(asleep_at, -1) << "a 1° swing: awake for 10 s (asleep at step " << asleep_at << " of 1/120 s)";
+        }
+    }
+}
+
 // A sleep_time no step counter reaches (1e300 s is 6e301 steps of 1/60 s):
 // the body never sleeps, as asked. The count was converted to a uint32,
 // undefined beyond 2^32 (here it came out 0), and a body dropped at rest fell
