@@ -407,11 +407,13 @@ void RigidWorld::step(double dt) {
     dRandSetSeed(static_cast<unsigned long>(m.settings.seed * 0x9E3779B97F4A7C15ull + m.steps));
     m.update_stops(dt);
     if (m.settings.speculative_stops) m.speculative_stops(dt);
+    m.build_groups();
+    if (m.settings.articulated) m.find_trees();
     if (m.settings.gyroscopic_rk4) m.gyroscopic(dt);
     m.begin_step();
     m.contacts = 0;
-    m.build_groups();
     dSpaceCollide(m.space, &m, &Impl::near_callback);
+    m.hold_trees();  // trees touching nothing leave ODE's step
     g_stepping = &m.messages;
     if (m.settings.quickstep) {
         dWorldQuickStep(m.world, dt);
@@ -419,6 +421,7 @@ void RigidWorld::step(double dt) {
         dWorldStep(m.world, dt);
     }
     g_stepping = nullptr;
+    m.step_trees(dt);
     dJointGroupEmpty(m.contact_group);
     m.sweep();
     if (m.settings.position_iterations > 0) m.stabilize();

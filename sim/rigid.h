@@ -116,6 +116,11 @@ struct RigidSettings {
     // equations, then ODE steps without its term: energy and |L| of a free
     // spin are kept to O(h⁴) per step.
     bool gyroscopic_rk4 = true;
+    // A tree of bodies hung from the world by hinges and ball joints (no
+    // limits, motors or friction), touching nothing and pushed by nothing
+    // else, steps in reduced coordinates (sim/articulated.h): joints exact, a
+    // top's precession and a chain's energy kept (the study's §8); else ODE.
+    bool articulated = true;
     // Position iterations after ODE's step (as Jolt's): each pulls every
     // ball, hinge and universal joint's two anchors to within position_slop
     // by a nonlinear Gauss-Seidel pass over positions and orientations,

@@ -2,7 +2,8 @@
 // it: rigid.cpp (bodies, the step, queries), rigid_joints.cpp (joints, their
 // stops), rigid_contacts.cpp (which pairs collide, contact parameters),
 // rigid_stabilize.cpp (gyroscopic RK4, positional stabilisation) and
-// rigid_sleep.cpp (sleep by jointed group). Only sim/rigid*.cpp include it:
+// rigid_sleep.cpp (sleep by jointed group), rigid_articulated.cpp (trees in
+// reduced coordinates). Only sim/rigid*.cpp include it:
 // no ODE type appears in sim's public headers.
 #pragma once
 
@@ -160,6 +161,19 @@ struct RigidWorld::Impl {
     // Before the step: each body's position (the swept test), no contact yet.
     void begin_step();
     void sweep();
+
+    // Reduced coordinates (rigid_articulated.cpp): this step's trees hung
+    // from the world, each root first, its bodies' slots, the joint to each
+    // one's parent (its index in `slots` of the tree; -1 the world) and spin.
+    struct Tree {
+        std::vector<std::uint32_t> slots, joints;
+        std::vector<int> parents;
+        std::vector<Vec3> spin;  // rad/s, before the gyroscopic pass
+    };
+    std::vector<Tree> trees;
+    void find_trees();
+    void hold_trees();
+    void step_trees(double h);
 
     // Sleep (rigid_sleep.cpp).
     // Slow enough to fall asleep: the body's group's smoothed kinetic energy

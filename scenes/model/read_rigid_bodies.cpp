@@ -127,6 +127,7 @@ void read_rigid_settings(SceneBuilder& b, const Section& top) {
                                  sim::format_value(rs.sleep_time) + ")");
     }
     rs.self_collision = s.boolean("self_collision", rs.self_collision);
+    rs.articulated = s.boolean("articulated", rs.articulated);
     rs.speculative_stops = s.boolean("speculative_stops", rs.speculative_stops);
     rs.position_iterations = static_cast<int>(s.integer("position_iterations", rs.position_iterations, 0, 100));
     rs.position_slop = s.number("position_slop", rs.position_slop, 0.0, 1.0, "m");

@@ -61,6 +61,7 @@ inline constexpr std::string_view rigid[] = {"quickstep",
                                              "sleep_time",
                                              "gravity",
                                              "self_collision",
+                                             "articulated",
                                              "position_iterations",
                                              "position_slop",
                                              "speculative_stops"};

@@ -319,6 +319,39 @@ TEST(Rigid, ABodyRestsOnAStaticCollider) {
     EXPECT_NEAR(world.state(id).position.y(), 1.7, 0.005) << "m: on the box, its centre a radius above the top";
 }
 
+// A rod hung from the world swings in reduced coordinates (its energy kept to
+// rounding) until it meets a wall, where ODE's contacts take it; it stops at
+// the wall, loses energy to the impact, and its hinge stays together.
+TEST(RigidJoints, AHungRodHandsOverToTheContactsAtAWallAndBack) {
+    RigidWorld world({.ground = false});
+    world.add_static(BoxCollider{Vec3(-0.8, -0.4, 0.0), Vec3(0.05, 0.3, 0.5)});  // its face at x = -0.75 m
+    BodyDef rod;
+    rod.size = Vec3(0.1, 1.0, 0.1);
+    rod.position = Vec3(0.5, 0.0, 0.0);  // released horizontal
+    rod.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(std::numbers::pi / 2.0, Vec3::UnitZ()));
+    const BodyId b = world.add_body(rod);
+    const JointId hinge =
+        world.add_joint({.type = JointType::hinge, .a = b, .anchor = Vec3::Zero(), .axis = Vec3::UnitZ()});
+    const double e0 = world.kinetic_energy() + world.potential_energy();
+    const double swing = 1.0 * 9.81 * 0.5;  // J, m g d: what the fall to hanging releases
+    bool touched = false;
+    double least_x = 0.0, worst_gap = 0.0;  // m, m
+    for (int i = 0; i < 360; ++i) {
+        world.step(1.0 / 120.0);
+        touched = touched || world.contacts() > 0;
+        if (!touched) {
+            const double e = world.kinetic_energy() + world.potential_energy();
+            EXPECT_NEAR(e, e0, 1e-6 * swing) << "J: free, the swing keeps its energy (ODE: 1e-2) (step " << i << ")";
+        }
+        least_x = std::min(least_x, world.state(b).position.x());
+        worst_gap = std::max(worst_gap, world.joint_separation(hinge));
+    }
+    ASSERT_TRUE(touched) << "the rod reached the wall";
+    EXPECT_GT(least_x, -0.75 * 0.5 - 0.01) << "m: its centre stops at the wall (half way out along the rod)";
+    EXPECT_LT(world.kinetic_energy() + world.potential_energy(), e0) << "J: the impact took energy";
+    EXPECT_LT(worst_gap, 2e-3) << "m: the hinge held through the handovers";
+}
+
 TEST(RigidJoints, SwingLimitsOfABallJointHoldAPushedRod) {
     // A rod hanging from a base held by a fixed joint, pushed about x in zero
     // gravity: free, it turns all the way round; limited to ±0.5 rad of swing
