@@ -95,8 +95,8 @@ public:
     virtual double energy() const = 0;  // J, kinetic + m g y over the bodies
     // The pendulum: the rod's centre of mass (m); the top: its axis (unit); the chain: zero.
     virtual sim::Vec3 probe() const = 0;
-    // Stopped: a non-finite state, or (RigidWorld) a spin past sim::kMaxBodySpin,
-    // where ODE would soon assert on a NaN quaternion.
+    // Stopped: a non-finite state, or a body spinning past sim::kMaxBodySpin
+    // (where ODE would soon assert on a NaN quaternion), the same rule for all.
     virtual bool broken() const = 0;
 };
 
