@@ -446,7 +446,9 @@ RigidRatio rigid_ratio(const Measurements& m, const std::string& a, const std::s
 }
 
 // A ratio as the prose gives it: "2.3", "960".
-std::string times(double ratio) { return ratio >= 100.0 ? fmt("%.0f", ratio) : fmt("%.2g", ratio); }
+std::string times(double ratio) {
+    return ratio < 1.0 ? fmt("%.2f", ratio) : ratio < 10.0 ? fmt("%.1f", ratio) : fmt("%.0f", ratio);
+}
 
 // "3.2x smaller", "1.5x larger", or "about the same" within 10%.
 std::string factor(double ratio) {
@@ -528,6 +530,13 @@ void rigid_advice(std::ostream& md, const Measurements& m, const Findings& f) {
            << (cheapest ? cheapest->label() + " at " + step_name(cheapest->h) + ", " +
                               fmt("%.3g", cheapest->us_per_frame) + " µs a frame"
                         : std::string("no step measured reaches it"));
+        if (!cheapest || cheapest->label() == favourite) continue;
+        for (const RigidSample* s : rigid_series(m, problem, favourite)) {
+            if (!s->failed && s->error <= 0.01) {
+                md << " (" << favourite << ": " << step_name(s->h) << ", " << fmt("%.3g", s->us_per_frame) << " µs)";
+                break;
+            }
+        }
     }
     md << ".\n\n";
     const RigidRatio ode = rigid_ratio(m, "ode_quickstep 20 iterations", "plausible defaults");
