@@ -36,7 +36,8 @@ Settings settings_for(bool quick) {
             .drift_kepler = (quick ? 10.0 : 20.0) * 2.0 * pi,
             .stiff_bisections = quick ? 14 : 30,
             .map_bisections = quick ? 8 : 16,
-            .growth = growth_timing(quick)};
+            .growth = growth_timing(quick),
+            .rigid = quick ? RigidSpan{.substeps = {1, 4, 16}, .seconds = 5.0, .repetitions = 1} : RigidSpan{}};
 }
 
 // The steps the progress bar counts, one per progress.step() in the measuring stages.
@@ -51,7 +52,8 @@ int progress_steps(const std::vector<Problem>& problems) {
                             + methods                                  // stiff spring limits
                             + hard_cases().size() + 1 + 1              // stability map, ragdoll, small steps
                             + catalog().size()                         // scene costs
-                            + growth_system_count());                  // how cost grows
+                            + growth_system_count()                    // how cost grows
+                            + rigid_series_count());                   // rigid bodies
 }
 
 // Every measurement, in the order the progress bar counts them. `scratch`:
@@ -69,6 +71,7 @@ Measurements measure(const Settings& settings, bool show_progress, const fs::pat
     m.small_steps = measure_small_steps(progress);
     m.costs = measure_scene_costs(settings.quick, scratch, progress);
     m.growth = measure_growth(settings.growth, [&](const std::string& s) { progress.step("growth " + s); });
+    m.rigid = measure_rigid(settings.rigid, progress);
     return m;
 }
 

@@ -12,14 +12,18 @@
 // theirs on the single particle (where the World's fixed cost per step
 // dominates) and on a batch of 1000 independent copies of each problem
 // (where it is spread over 1000 particles, and the integrators' own speed
-// shows).
+// shows); and rigid bodies (scenes/report/report_rigid.h): a hinged rod, a
+// heavy top and a chain of 8 links through sim::RigidWorld and Bullet, error
+// against cost per 1/60 s frame over substeps.
 //
 // Output (into --out, written whole or not at all): report.md (tables, each
 // with a one-line conclusion), work_precision.csv, orders.csv, stability.csv,
-// growth.csv (system, size, seconds_per_step), report.json (`orders`: a list
+// growth.csv (system, size, seconds_per_step), rigid.csv (problem, solver,
+// setting, h, errors, us_per_frame), report.json (`orders`: a list
 // of {integrator, problem, fitted, expected}; `pareto`; `drift`; `stability`;
 // `growth`: a list of {system, size_unit, sizes, seconds_per_step, exponent,
-// expected}; `peers`: a list of {peer, problem, compared_with, fitted,
+// expected}; `rigid`: {cost_unit, seconds_simulated, substeps, samples,
+// orders, picks}; `peers`: a list of {peer, problem, compared_with, fitted,
 // cost_ratio (one particle), ratio_batch (the batch of 1000),
 // ratio_batch_basis, batch: {copies, dt, steps, ours_ and
 // theirs_seconds_per_copy_step, ratio_at_equal_dt,
@@ -27,7 +31,8 @@
 // plots drawn by gnuplot (Debian's gnuplot-nox):
 // work-precision and error-against-dt with reference slopes per problem,
 // energy over time, the stability limits, cost per step against size
-// (growth.png, log-log).
+// (growth.png, log-log), each rigid problem's error against cost
+// (rigid_<problem>.png, log-log).
 #pragma once
 
 #include <filesystem>

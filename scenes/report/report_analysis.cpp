@@ -123,6 +123,50 @@ PeerRow compare(const PeerSweep& peer) {
     return row;
 }
 
+// --- rigid bodies: orders and the picks for a frame budget ---------------------------------------
+
+// Each solver-setting series' order: its headline error against h.
+std::vector<RigidOrder> rigid_orders(const std::vector<RigidSample>& rigid) {
+    std::vector<RigidOrder> out;
+    for (std::size_t i = 0; i < rigid.size();) {
+        std::vector<Sample> series;
+        std::size_t j = i;
+        for (; j < rigid.size() && rigid[j].problem == rigid[i].problem && rigid[j].label() == rigid[i].label(); ++j) {
+            series.push_back({.problem = rigid[j].problem,
+                              .integrator = rigid[j].label(),
+                              .dt = rigid[j].h,
+                              .error = rigid[j].error});
+        }
+        out.push_back({.problem = rigid[i].problem,
+                       .solver = rigid[i].solver,
+                       .setting = rigid[i].setting,
+                       .fit = fit_order(series)});
+        i = j;
+    }
+    return out;
+}
+
+// The most accurate point within each budget, of any solver and of ours.
+std::vector<RigidPick> rigid_picks(const std::vector<RigidSample>& rigid) {
+    std::vector<RigidPick> out;
+    std::vector<std::string> problems;
+    for (const RigidSample& s : rigid)
+        if (std::find(problems.begin(), problems.end(), s.problem) == problems.end()) problems.push_back(s.problem);
+    for (const std::string& problem : problems) {
+        for (const double budget : kRigidBudgets) {
+            RigidPick pick{.problem = problem, .budget = budget};
+            for (const RigidSample& s : rigid) {
+                if (s.problem != problem || s.failed || !std::isfinite(s.error) || !(s.us_per_frame <= budget))
+                    continue;
+                if (!pick.best || s.error < pick.best->error) pick.best = s;
+                if (s.ours() && (!pick.ours || s.error < pick.ours->error)) pick.ours = s;
+            }
+            out.push_back(pick);
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 Fit fit_order(const std::vector<Sample>& samples) {
@@ -165,6 +209,8 @@ Findings analyse(const Measurements& m) {
     all.insert(all.end(), m.frames.begin(), m.frames.end());
     for (const Problem& p : m.problems) f.fronts[p.name] = pareto_front(p.name, all);
     for (const PeerSweep& peer : m.peers) f.peers.push_back(compare(peer));
+    f.rigid_orders = rigid_orders(m.rigid);
+    f.rigid_picks = rigid_picks(m.rigid);
     return f;
 }
 

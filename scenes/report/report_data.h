@@ -42,6 +42,10 @@ inline constexpr double kKLo = 1.0, kKHi = 1e10;     // N/m, the stiffness searc
 // this many times odeint's (the World's fixed cost spread over 1000 copies).
 inline constexpr double kBatchTarget = 1.2;
 
+// The rigid section's frame budgets, µs of one problem's physics per 1/60 s
+// frame: what the recommendation is made for.
+inline const std::vector<double> kRigidBudgets = {20.0, 100.0, 500.0};
+
 // The lecture's budget: physics takes 5% to 30% of a 33 ms frame (30 FPS).
 inline constexpr double kFrameMs = 1000.0 / 30.0;
 inline constexpr double kPhysicsLow = 0.05 * kFrameMs, kPhysicsHigh = 0.30 * kFrameMs;  // ms
@@ -55,6 +59,14 @@ struct Timing {
     double min_seconds = 0.005;  // s
 };
 
+// The rigid problems' step sizes: a 1/60 s frame in 1, 2, 4, 8, 16 substeps
+// (--quick: 1, 4, 16), and how long each run is simulated.
+struct RigidSpan {
+    std::vector<int> substeps = {1, 2, 4, 8, 16};
+    double seconds = 10.0;  // s simulated per run: the energy's and the tilt's span
+    int repetitions = 3;    // runs timed, the median counts
+};
+
 // Everything --quick changes, in one place (settings_for in report.cpp).
 struct Settings {
     bool quick = false;
@@ -66,6 +78,7 @@ struct Settings {
     int stiff_bisections = 30;      // of the stiff spring's largest stable dt
     int map_bisections = 16;        // of each search of the stability map
     GrowthTiming growth;            // of how cost grows with size
+    RigidSpan rigid;                // of the rigid problems
 };
 
 // --- the problems ------------------------------------------------------------------------
@@ -176,6 +189,29 @@ struct SceneCost {
     bool exploded = false;
 };
 
+// --- rigid bodies (report_rigid.cpp, report_rigid_peers.cpp) --------------------------------
+
+// One solver and setting of one problem at one step h: its errors against
+// the closed forms (relative unless said; NaN: not applicable, or the run
+// failed) and its cost.
+struct RigidSample {
+    std::string problem;  // "pendulum", "top", "chain"
+    std::string solver;   // "plausible", "ode_quickstep", "ode_exact", "bullet_multibody", "bullet_sequential_impulse"
+    std::string setting;  // "defaults", "20 iterations", ...
+    double h = 0.0;       // s
+    // The largest of the problem's errors below, each relative (the tilt's
+    // over the tilt): the one number the plots and the fitted orders use.
+    double error = kNaN;
+    double period_error = kNaN;      // pendulum: |T / T_exact - 1| over its first full swing
+    double energy_error = kNaN;      // pendulum: |ΔE| / m g d (1 - cos θ0); chain: |ΔE| / 78.48 J; over the run
+    double precession_error = kNaN;  // top: |rate over the first 2 s / Ω - 1|
+    double tilt_error = kNaN;        // top: |θ - 30°| at the run's end, deg
+    double us_per_frame = kNaN;      // µs of wall time per 1/60 s of simulated time (median of the runs)
+    bool failed = false;             // non-finite state, or a spin past sim::kMaxBodySpin
+    std::string label() const { return solver + " " + setting; }
+    bool ours() const { return solver.rfind("bullet", 0) != 0; }  // through sim::RigidWorld
+};
+
 struct Measurements {
     std::vector<Problem> problems;
     std::vector<Sample> sweeps;           // problem by problem, method by method, coarsest dt first
@@ -187,6 +223,7 @@ struct Measurements {
     std::vector<SmallSteps> small_steps;  // body, n, then substeps before iterations
     std::vector<SceneCost> costs;         // every shipped scene, in catalog order
     std::vector<GrowthSeries> growth;     // how cost grows with size
+    std::vector<RigidSample> rigid;       // problem by problem, solver by solver, coarsest h first
 };
 
 // --- what the analysis makes of them --------------------------------------------------------
@@ -213,10 +250,26 @@ struct PeerRow {
     std::string batch_basis;    // what "equal error" rests on (see batch_ratio)
 };
 
+// A rigid solver and setting's fitted order on one problem (of its headline error in h).
+struct RigidOrder {
+    std::string problem, solver, setting;
+    Fit fit;
+};
+
+// The most accurate measured point of a rigid problem within a cost budget.
+struct RigidPick {
+    std::string problem;
+    double budget = 0.0;              // µs per 1/60 s frame
+    std::optional<RigidSample> best;  // any solver; empty: nothing that cheap
+    std::optional<RigidSample> ours;  // through sim::RigidWorld (plausible, ode_*)
+};
+
 struct Findings {
     std::vector<OrderFit> orders;                       // problem by problem, method by method
     std::map<std::string, std::vector<Sample>> fronts;  // per problem, its Pareto front, cheapest first
     std::vector<PeerRow> peers;                         // as Measurements::peers
+    std::vector<RigidOrder> rigid_orders;               // as the series of Measurements::rigid
+    std::vector<RigidPick> rigid_picks;                 // problem by problem, budget by budget
 };
 
 }  // namespace scenes::report

@@ -3,6 +3,7 @@
 // the Pareto fronts, a game's frame, which method for which budget, odeint,
 // energy, stability, the XPBD claim, every scene's cost, how cost grows).
 // Its own file: the prose, apart from the tables and plots it refers to.
+#include "scenes/report/report_rigid.h"
 #include "scenes/report/report_stages.h"
 
 #include "sim/integrators.h"
@@ -377,6 +378,215 @@ void scene_costs(std::ostream& md, const std::vector<SceneCost>& costs) {
        << fmt("%.0f", slowest) << " ms a frame: there, not in the physics, is where a 33 ms frame goes.\n";
 }
 
+// --- rigid bodies ----------------------------------------------------------------------------
+
+std::string percent(double e) { return (100.0 * e >= 100.0 ? fmt("%.0f", 100.0 * e) : fmt("%.2g", 100.0 * e)) + "%"; }
+
+// A step as the tables name it: "1/240 s".
+std::string step_name(double h) { return "1/" + std::to_string(std::lround(1.0 / h)) + " s"; }
+
+std::string rigid_title(const std::string& problem, double seconds) {
+    if (problem == "pendulum") {
+        return "Hinged rod released at 90°: period against 4 √(I / m g d) K(sin 45°) = " +
+               fmt("%.6f", RigidPendulum::period()) + " s, energy change over " + fmt("%g", seconds) +
+               " s over the swing's m g d";
+    }
+    if (problem == "top") {
+        return "Heavy symmetric top in steady precession (tilt 30°, spin 50 rad/s): precession rate over 2 s "
+               "against Ω = " +
+               fmt("%.6f", RigidTop::precession()) + " rad/s, tilt after " + fmt("%g", seconds) + " s";
+    }
+    return "Chain of 8 hinged links released horizontal: energy change over " + fmt("%g", seconds) + " s over the " +
+           fmt("%.2f", RigidChain::released()) + " J its fall releases";
+}
+
+// A run's errors in words: "T 0.04%, E 1.6%", "Ω 1.2%, tilt 74°", "E 4.9%".
+std::string rigid_errors(const RigidSample& s) {
+    if (s.failed || !std::isfinite(s.error)) return "failed";
+    if (s.problem == "pendulum") return "T " + percent(s.period_error) + ", E " + percent(s.energy_error);
+    if (s.problem == "top") return "Ω " + percent(s.precession_error) + ", tilt " + fmt("%.3g", s.tilt_error) + "°";
+    return "E " + percent(s.energy_error);
+}
+
+std::string rigid_point(const RigidSample& s) {
+    return s.label() + " at " + step_name(s.h) + " (error " + percent(s.error) + ", " + fmt("%.3g", s.us_per_frame) +
+           " µs)";
+}
+
+// The samples of one problem and series, coarsest h first.
+std::vector<const RigidSample*> rigid_series(const Measurements& m, const std::string& problem,
+                                             const std::string& label) {
+    std::vector<const RigidSample*> out;
+    for (const RigidSample& s : m.rigid)
+        if (s.problem == problem && s.label() == label) out.push_back(&s);
+    return out;
+}
+
+// The median over problems and steps of b's error and cost over a's, where both ran.
+struct RigidRatio {
+    double error = kNaN, cost = kNaN;
+    double error_lo = kNaN, error_hi = kNaN;  // the smallest and largest error ratio
+};
+RigidRatio rigid_ratio(const Measurements& m, const std::string& a, const std::string& b) {
+    std::vector<double> errors, costs;
+    for (const std::string& problem : rigid_problems()) {
+        const auto sa = rigid_series(m, problem, a), sb = rigid_series(m, problem, b);
+        for (std::size_t i = 0; i < std::min(sa.size(), sb.size()); ++i) {
+            if (sa[i]->failed || sb[i]->failed || !(sa[i]->error > 0) || !(sb[i]->error > 0)) continue;
+            errors.push_back(sb[i]->error / sa[i]->error);
+            costs.push_back(sb[i]->us_per_frame / sa[i]->us_per_frame);
+        }
+    }
+    RigidRatio r;
+    if (errors.empty()) return r;
+    r.error = median(errors), r.cost = median(costs);
+    r.error_lo = *std::min_element(errors.begin(), errors.end());
+    r.error_hi = *std::max_element(errors.begin(), errors.end());
+    return r;
+}
+
+// A ratio as the prose gives it: "2.3", "960".
+std::string times(double ratio) {
+    return ratio < 1.0 ? fmt("%.2f", ratio) : ratio < 10.0 ? fmt("%.1f", ratio) : fmt("%.0f", ratio);
+}
+
+// "3.2x smaller", "1.5x larger", or "about the same" within 10%.
+std::string factor(double ratio) {
+    if (!std::isfinite(ratio)) return "n/a";
+    if (ratio >= 1.0 / 1.1 && ratio <= 1.1) return "about the same";
+    return ratio < 1.0 ? times(1.0 / ratio) + "x smaller" : times(ratio) + "x larger";
+}
+
+void rigid_problem_table(std::ostream& md, const Settings& settings, const Measurements& m, const Findings& f,
+                         const std::string& problem) {
+    md << "### " << rigid_title(problem, settings.rigid.seconds) << "\n\n![" << problem << "](rigid_" << problem
+       << ".png)\n\n| solver | setting |";
+    for (const int n : settings.rigid.substeps) md << " h = " << step_name(1.0 / 60.0 / n) << " |";
+    md << " fitted order |\n|---|---|";
+    for (std::size_t k = 0; k <= settings.rigid.substeps.size(); ++k) md << "---|";
+    md << '\n';
+    for (const RigidOrder& o : f.rigid_orders) {
+        if (o.problem != problem) continue;
+        md << "| " << o.solver << " | " << o.setting << " |";
+        for (const RigidSample* s : rigid_series(m, problem, o.solver + " " + o.setting)) {
+            md << ' ' << rigid_errors(*s);
+            if (!s->failed) md << " · " << fmt("%.3g", s->us_per_frame) << " µs";
+            md << " |";
+        }
+        md << ' ' << (std::isfinite(o.fit.slope) ? fmt("%.2f", o.fit.slope) : std::string("n/a")) << " |\n";
+    }
+    md << '\n';
+}
+
+// Which setting for a frame budget, in words, from the picks and the ratios.
+void rigid_advice(std::ostream& md, const Measurements& m, const Findings& f) {
+    md << "### Which setting for a frame budget\n\n| problem | budget (µs per frame) | most accurate measured | "
+          "most accurate through RigidWorld |\n|---|---|---|---|\n";
+    std::map<std::string, int> ours_wins;
+    int pairs = 0;
+    for (const RigidPick& p : f.rigid_picks) {
+        md << "| " << p.problem << " | " << fmt("%g", p.budget) << " | "
+           << (p.best ? rigid_point(*p.best) : std::string("nothing that cheap")) << " | "
+           << (p.ours ? rigid_point(*p.ours) : std::string("nothing that cheap")) << " |\n";
+        if (p.ours) ++ours_wins[p.ours->label()], ++pairs;
+    }
+    md << "\n**What to pick.** ";
+    std::string favourite;
+    int most = 0;
+    for (const auto& [label, n] : ours_wins)
+        if (n > most) most = n, favourite = label;
+    if (!favourite.empty()) {
+        md << "Through RigidWorld, " << favourite << " is the most accurate within the budget in " << most << " of "
+           << pairs << " problem-budget pairs: pick it, and spend the budget on substeps";
+    }
+    // The favourite's error and cost per halving of h, the median over the problems' series.
+    std::vector<double> error_step, cost_step;
+    for (const std::string& problem : rigid_problems()) {
+        const auto s = rigid_series(m, problem, favourite);
+        for (std::size_t i = 0; i + 1 < s.size(); ++i) {
+            if (s[i]->failed || s[i + 1]->failed || !(s[i]->error > 0) || !(s[i + 1]->error > 0)) continue;
+            const double halvings = std::log2(s[i]->h / s[i + 1]->h);
+            error_step.push_back(std::pow(s[i]->error / s[i + 1]->error, 1.0 / halvings));
+            cost_step.push_back(std::pow(s[i + 1]->us_per_frame / s[i]->us_per_frame, 1.0 / halvings));
+        }
+    }
+    if (!error_step.empty()) {
+        md << ": each halving of h divides its error by " << times(median(error_step)) << " and multiplies its cost by "
+           << times(median(cost_step)) << " (medians over the problems)";
+    }
+    md << ".";
+    // The cheapest point of ours under 1% per problem.
+    md << " For 1% error through RigidWorld:";
+    for (std::size_t k = 0; k < rigid_problems().size(); ++k) {
+        const std::string& problem = rigid_problems()[k];
+        const RigidSample* cheapest = nullptr;
+        for (const RigidSample& s : m.rigid) {
+            if (s.problem == problem && s.ours() && !s.failed && s.error <= 0.01 &&
+                (!cheapest || s.us_per_frame < cheapest->us_per_frame)) {
+                cheapest = &s;
+            }
+        }
+        md << (k == 0 ? " " : "; ") << "the " << problem << ", "
+           << (cheapest ? cheapest->label() + " at " + step_name(cheapest->h) + ", " +
+                              fmt("%.3g", cheapest->us_per_frame) + " µs a frame"
+                        : std::string("no step measured reaches it"));
+        if (!cheapest || cheapest->label() == favourite) continue;
+        for (const RigidSample* s : rigid_series(m, problem, favourite)) {
+            if (!s->failed && s->error <= 0.01) {
+                md << " (" << favourite << ": " << step_name(s->h) << ", " << fmt("%.3g", s->us_per_frame) << " µs)";
+                break;
+            }
+        }
+    }
+    md << ".\n\n";
+    const RigidRatio ode = rigid_ratio(m, "ode_quickstep 20 iterations", "plausible defaults");
+    const RigidRatio iterations = rigid_ratio(m, "ode_quickstep 10 iterations", "ode_quickstep 50 iterations");
+    const RigidRatio exact = rigid_ratio(m, "ode_quickstep 20 iterations", "ode_exact dWorldStep");
+    md << "Against ODE as it comes (quickstep, 20 iterations) at the same h, the defaults' error is "
+       << factor(ode.error) << " (median over problems and steps; from " << factor(ode.error_lo) << " to "
+       << factor(ode.error_hi) << ") at " << times(ode.cost) << "x the cost. Quickstep's iterations, 50 against "
+       << "10, leave the error " << factor(iterations.error) << " (median) at " << times(iterations.cost)
+       << "x the cost, and ODE's exact solver leaves it " << factor(exact.error) << " at " << times(exact.cost)
+       << "x quickstep's cost: on one body or one chain the iterative solver is not what limits the error.";
+    // Where a peer is markedly more accurate within the largest budget.
+    std::vector<std::string> better;
+    for (const RigidPick& p : f.rigid_picks) {
+        if (p.budget != kRigidBudgets.back() || !p.best || p.best->ours() || !p.ours) continue;
+        if (p.best->error < 0.5 * p.ours->error) {
+            better.push_back("the " + p.problem + " (" + p.best->label() + ", " + percent(p.best->error) + " against " +
+                             percent(p.ours->error) + ")");
+        }
+    }
+    if (!better.empty()) {
+        md << " Within " << fmt("%g", kRigidBudgets.back()) << " µs a frame Bullet is markedly more accurate on ";
+        for (std::size_t k = 0; k < better.size(); ++k) md << (k == 0 ? "" : " and ") << better[k];
+        md << ": a reduced-coordinate step, where RigidWorld steps maximal coordinates";
+    }
+    md << ".\n\n";
+}
+
+void rigid_bodies(std::ostream& md, const Settings& settings, const Measurements& m, const Findings& f) {
+    md << "\n## Rigid bodies\n\n"
+       << "Three problems with closed forms (`tests/sim/rigid_accuracy_test.cpp`, "
+          "`docs/studies/rigid-closed-forms.md`), each run through `sim::RigidWorld` under Plausible's defaults "
+          "(sleep off) and under ODE as it comes (its own joint ERP 0.2 and CFM 1e-10, its implicit gyroscopic "
+          "term, no position pass: quickstep at 10, 20 and 50 iterations, and the exact dWorldStep), and through "
+          "Bullet's Featherstone `btMultiBody` and its `btSequentialImpulseConstraintSolver` (single precision, "
+          "no sleeping, the multibody undamped and its joint rates clamped at 1e4 rad/s as ours are, one "
+          "stepSimulation(h, 0) a step), at a 1/60 s frame in ";
+    for (std::size_t k = 0; k < settings.rigid.substeps.size(); ++k)
+        md << (k == 0 ? "" : ", ") << settings.rigid.substeps[k];
+    md << " substeps, " << fmt("%g", settings.rigid.seconds) << " s simulated a run. Cost is wall time per 1/60 s "
+       << "frame, µs, timed around the steps alone"
+       << (settings.rigid.repetitions > 1 ? " (median of " + std::to_string(settings.rigid.repetitions) + " runs)"
+                                          : std::string(" (one run)"))
+       << "; the error in the plots and the fitted orders is the largest of a problem's relative errors (the "
+          "top's tilt over its 30°). A fitted order needs three errors between 1e-11 and 5e-2 (n/a: fewer). "
+          "Every run is in `rigid.csv`.\n\n";
+    for (const std::string& problem : rigid_problems()) rigid_problem_table(md, settings, m, f, problem);
+    rigid_advice(md, m, f);
+}
+
 }  // namespace
 
 void write_markdown(const std::filesystem::path& dir, const Settings& settings, const Measurements& m,
@@ -396,6 +606,7 @@ void write_markdown(const std::filesystem::path& dir, const Settings& settings, 
     small_steps(md, m.small_steps);
     scene_costs(md, m.costs);
     md << growth_files(m.growth).markdown;
+    rigid_bodies(md, settings, m, f);
     write_file(dir / "report.md", md.str());
 }
 

@@ -268,6 +268,60 @@ void plot_growth(const fs::path& dir, const std::vector<GrowthSeries>& growth) {
     gnuplot(dir, "growth", std::string(kTerminal) + files.plot_script);
 }
 
+// --- rigid bodies: error against cost per problem -------------------------------------------
+
+// One line per solver and setting over its step sizes: ours in colour,
+// Bullet's dashed and grey, as the work-precision plots draw odeint's.
+void plot_rigid(const fs::path& dir, const std::string& problem, const std::vector<RigidSample>& rigid) {
+    std::ostringstream data, plot;
+    std::vector<std::string> labels;
+    for (const RigidSample& s : rigid)
+        if (s.problem == problem && std::find(labels.begin(), labels.end(), s.label()) == labels.end())
+            labels.push_back(s.label());
+    static const char* greys[] = {"#000000", "#777777"};
+    std::size_t k = 0, colour = 0, grey = 0;
+    double coarsest = 0.0, finest = 1.0;  // s
+    for (const RigidSample& s : rigid) coarsest = std::max(coarsest, s.h), finest = std::min(finest, s.h);
+    for (const std::string& label : labels) {
+        std::ostringstream block;
+        bool ours = true;
+        for (const RigidSample& s : rigid) {
+            if (s.problem != problem || s.label() != label) continue;
+            ours = s.ours();
+            if (s.failed || !std::isfinite(s.error) || s.error <= 0) continue;
+            block << fmt("%.6e", s.us_per_frame) << ' ' << fmt("%.6e", s.error) << ' ' << std::lround(1.0 / s.h)
+                  << '\n';
+        }
+        std::string look;
+        if (ours) {
+            look = style(colour++);
+        } else {
+            look = "dt 2 lc rgb '" + std::string(greys[grey % 2]) + "' pt " +
+                   std::to_string(4 + 2 * static_cast<int>(grey));
+            ++grey;
+        }
+        if (block.str().empty()) continue;  // every run failed: nothing to draw
+        data << "# " << label << '\n' << block.str() << "\n\n";
+        plot << (k == 0 ? "plot " : ", \\\n     ") << "'rigid_" << problem << ".dat' index " << k
+             << " using 1:2 with linespoints " << look << " title '" << label << "' noenhanced";
+        ++k;
+    }
+    write_file(dir / ("rigid_" + problem + ".dat"), data.str());
+    if (k == 0) plot << "plot NaN notitle";
+    gnuplot(dir, "rigid_" + problem,
+            std::string("set terminal pngcairo size 1200,680 enhanced font 'DejaVu Sans,12' linewidth 1.5\n") +
+                "set output 'rigid_" + problem +
+                ".png'\nset logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\nset grid\n"
+                "set key outside right top\n"
+                "set title \"Rigid bodies: the " +
+                problem + ", each line h = 1/" + std::to_string(std::lround(1.0 / coarsest)) + " s (left) to 1/" +
+                std::to_string(std::lround(1.0 / finest)) +
+                " s\" noenhanced\n"
+                "set xlabel 'cost: µs of wall time per 1/60 s frame'\n"
+                "set ylabel 'largest relative error'\n" +
+                plot.str() + "\n");
+}
+
 }  // namespace
 
 void draw_plots(const fs::path& dir, const Measurements& m) {
@@ -278,6 +332,7 @@ void draw_plots(const fs::path& dir, const Measurements& m) {
     plot_stability_map(dir, m.map);
     plot_scene_costs(dir, m.costs);
     plot_growth(dir, m.growth);
+    for (const std::string& problem : rigid_problems()) plot_rigid(dir, problem, m.rigid);
 }
 
 }  // namespace scenes::report

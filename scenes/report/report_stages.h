@@ -51,6 +51,15 @@ std::vector<SceneCost> measure_scene_costs(bool quick, const std::filesystem::pa
 // "exploded", "over", "within" or "under" the physics budget.
 const char* budget_verdict(const SceneCost& c);
 
+// --- report_rigid.cpp: rigid bodies against closed forms, ours and Bullet's --------------------
+
+// "pendulum", "top", "chain" (report_rigid.h describes them).
+const std::vector<std::string>& rigid_problems();
+// The solver-setting series measure_rigid runs, one progress step each.
+int rigid_series_count();
+// Every solver and setting on every problem at each of span.substeps of a 1/60 s frame.
+std::vector<RigidSample> measure_rigid(const RigidSpan& span, Progress& progress);
+
 // --- report_analysis.cpp: fitted orders, Pareto fronts, cost ratios --------------------------
 
 Fit fit_order(const std::vector<Sample>& samples);

@@ -200,6 +200,61 @@ json small_steps(const Measurements& m) {
     return out;
 }
 
+// The rigid problems: every run, the fitted orders, the picks for a frame budget.
+Table rigid(const Settings& settings, const Measurements& m, const Findings& f) {
+    std::ostringstream csv;
+    csv << "problem,solver,setting,h,substeps,error,period_error,energy_error,precession_error,tilt_error_deg,"
+           "us_per_frame,failed\n";
+    json samples = json::array();
+    for (const RigidSample& s : m.rigid) {
+        csv << s.problem << ',' << s.solver << ',' << s.setting << ',' << fmt("%.9g", s.h) << ','
+            << std::lround(1.0 / 60.0 / s.h) << ',' << field("%.6e", s.error) << ',' << field("%.6e", s.period_error)
+            << ',' << field("%.6e", s.energy_error) << ',' << field("%.6e", s.precession_error) << ','
+            << field("%.6g", s.tilt_error) << ',' << field("%.6g", s.us_per_frame) << ',' << s.failed << '\n';
+        samples.push_back({{"problem", s.problem},
+                           {"solver", s.solver},
+                           {"setting", s.setting},
+                           {"h", s.h},
+                           {"error", number(s.error)},
+                           {"period_error", number(s.period_error)},
+                           {"energy_error", number(s.energy_error)},
+                           {"precession_error", number(s.precession_error)},
+                           {"tilt_error_deg", number(s.tilt_error)},
+                           {"us_per_frame", number(s.us_per_frame)},
+                           {"failed", s.failed}});
+    }
+    json orders = json::array();
+    for (const RigidOrder& o : f.rigid_orders) {
+        orders.push_back({{"problem", o.problem},
+                          {"solver", o.solver},
+                          {"setting", o.setting},
+                          {"fitted", number(o.fit.slope)},
+                          {"points", o.fit.points}});
+    }
+    auto point = [](const std::optional<RigidSample>& s) {
+        return s ? json{{"solver", s->solver},
+                        {"setting", s->setting},
+                        {"h", s->h},
+                        {"error", s->error},
+                        {"us_per_frame", s->us_per_frame}}
+                 : json(nullptr);
+    };
+    json picks = json::array();
+    for (const RigidPick& p : f.rigid_picks) {
+        picks.push_back({{"problem", p.problem},
+                         {"budget_us_per_frame", p.budget},
+                         {"best", point(p.best)},
+                         {"ours", point(p.ours)}});
+    }
+    return {.csv = csv.str(),
+            .rows = {{"cost_unit", "µs of wall time per 1/60 s frame"},
+                     {"seconds_simulated", settings.rigid.seconds},
+                     {"substeps", settings.rigid.substeps},
+                     {"samples", samples},
+                     {"orders", orders},
+                     {"picks", picks}}};
+}
+
 json problem_list(const Measurements& m) {
     json out = json::array();
     for (const Problem& p : m.problems)
@@ -224,7 +279,7 @@ void write_file(const fs::path& path, const std::string& text) {
 
 void write_tables(const fs::path& dir, const Settings& settings, const Measurements& m, const Findings& f) {
     const Table orders_table = orders(f), limits = stiff_spring(m), costs = scene_costs(m), peer_table = peers_table(f),
-                map = stability_map(m.map);
+                map = stability_map(m.map), rigid_table = rigid(settings, m, f);
     const GrowthFiles growth = growth_files(m.growth);
     write_file(dir / "orders.csv", orders_table.csv);
     write_file(dir / "work_precision.csv", work_precision_csv(m));
@@ -233,6 +288,7 @@ void write_tables(const fs::path& dir, const Settings& settings, const Measureme
     write_file(dir / "peers.csv", peer_table.csv);
     write_file(dir / "growth.csv", growth.csv);
     write_file(dir / "stability_map.csv", map.csv);
+    write_file(dir / "rigid.csv", rigid_table.csv);
 
     json j;
     j["quick"] = settings.quick;
@@ -251,6 +307,7 @@ void write_tables(const fs::path& dir, const Settings& settings, const Measureme
     j["growth"] = growth.json;
     j["stability_map"] = map.rows;
     j["small_steps"] = small_steps(m);
+    j["rigid"] = rigid_table.rows;
     write_file(dir / "report.json", j.dump(2) + "\n");
 }
 
