@@ -547,7 +547,7 @@ void rigid_advice(std::ostream& md, const Measurements& m, const Findings& f) {
        << factor(ode.error_hi) << ") at " << times(ode.cost) << "x the cost. Quickstep's iterations, 50 against "
        << "10, leave the error " << factor(iterations.error) << " (median) at " << times(iterations.cost)
        << "x the cost, and ODE's exact solver leaves it " << factor(exact.error) << " at " << times(exact.cost)
-       << "x quickstep's cost: on one body or one chain the iterative solver is not what limits the error.";
+       << "x quickstep's cost: on one body or one chain the iterative solver is not what limits the error";
     // Where a peer is markedly more accurate within the largest budget.
     std::vector<std::string> better;
     for (const RigidPick& p : f.rigid_picks) {
@@ -560,7 +560,6 @@ void rigid_advice(std::ostream& md, const Measurements& m, const Findings& f) {
     if (!better.empty()) {
         md << " Within " << fmt("%g", kRigidBudgets.back()) << " µs a frame Bullet is markedly more accurate on ";
         for (std::size_t k = 0; k < better.size(); ++k) md << (k == 0 ? "" : " and ") << better[k];
-        md << ": a reduced-coordinate step, where RigidWorld steps maximal coordinates";
     }
     md << ".\n\n";
 }
@@ -569,7 +568,9 @@ void rigid_bodies(std::ostream& md, const Settings& settings, const Measurements
     md << "\n## Rigid bodies\n\n"
        << "Three problems with closed forms (`tests/sim/rigid_accuracy_test.cpp`, "
           "`docs/studies/rigid-closed-forms.md`), each run through `sim::RigidWorld` under Plausible's defaults "
-          "(sleep off) and under ODE as it comes (its own joint ERP 0.2 and CFM 1e-10, its implicit gyroscopic "
+          "(sleep off; a tree hung from the world and touching nothing steps in reduced coordinates), with that "
+          "turned off (`articulated off`: ODE's maximal coordinates under Plausible's joint settings) and under ODE "
+          "as it comes (its own joint ERP 0.2 and CFM 1e-10, its implicit gyroscopic "
           "term, no position pass: quickstep at 10, 20 and 50 iterations, and the exact dWorldStep), and through "
           "Bullet's Featherstone `btMultiBody` and its `btSequentialImpulseConstraintSolver` (single precision, "
           "no sleeping, the multibody undamped and its joint rates clamped at 1e4 rad/s as ours are, one "

@@ -27,22 +27,23 @@ struct RigidWorldSetting {
     sim::RigidSettings settings;
 };
 
-// Plausible's defaults, then ODE as it comes through the same wrapper: its
-// own joint ERP 0.2 and CFM 1e-10 (dWorldCreate's, double precision), its
-// implicit gyroscopic term, no position pass (a setting of ours that steps
-// joints without ODE belongs off here). Sleep off and no ground: a swing is
-// slow enough to sleep, and the problems touch nothing.
+// Plausible's defaults, the same with every body in ODE (articulated off),
+// then ODE as it comes: its own joint ERP 0.2 and CFM 1e-10, its implicit
+// gyroscopic term, no position pass. Sleep off and no ground.
 std::vector<RigidWorldSetting> rigid_world_settings() {
     sim::RigidSettings plausible;
     plausible.ground = false;
     plausible.sleep = false;
-    sim::RigidSettings ode = plausible;
+    sim::RigidSettings maximal = plausible;
+    maximal.articulated = false;
+    sim::RigidSettings ode = maximal;
     ode.joint_erp = 0.2;
     ode.joint_cfm = 1e-10;
     ode.gyroscopic_rk4 = false;
     ode.position_iterations = 0;
     ode.speculative_stops = false;
-    std::vector<RigidWorldSetting> out = {{"plausible", "defaults", plausible}};
+    std::vector<RigidWorldSetting> out = {{"plausible", "defaults", plausible},
+                                          {"plausible", "articulated off", maximal}};
     for (const int n : {10, 20, 50}) {
         sim::RigidSettings s = ode;
         s.iterations = n;
