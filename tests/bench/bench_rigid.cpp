@@ -7,7 +7,8 @@
 //  - Pile/raw_ode: the same bodies, joints, contacts and solver settings
 //    written directly against ODE's C API, no wrapper.
 //  - Pile/wrapper_plain: the wrapper asked for what raw_ode does (no
-//    speculative stops, position iterations, gyroscopic RK4 or sleep): the
+//    speculative stops, position iterations, gyroscopic RK4, sleep or
+//    reduced coordinates): the
 //    wrapper itself (ids, groups, parameters) should cost <= 10% over raw_ode.
 //  - Pile/world: the same through sim::World, as a scene runs it (adds
 //    the watchdog over every body).
@@ -55,7 +56,8 @@ void time_steps(benchmark::State& state, const sim::RigidModel& model) {
 void Wrapper(benchmark::State& state) { time_steps(state, pile(static_cast<int>(state.range(0)))); }
 
 // The wrapper asked for no more than raw_ode does: no speculative stops,
-// position iterations, gyroscopic RK4 or sleep. Against raw_ode: the
+// position iterations, gyroscopic RK4, sleep or search for trees to step in
+// reduced coordinates (a ragdoll has limits: never one). Against raw_ode: the
 // wrapper's own cost; against wrapper: what those features cost.
 void Plain(benchmark::State& state) {
     sim::RigidModel model = pile(static_cast<int>(state.range(0)));
@@ -63,6 +65,7 @@ void Plain(benchmark::State& state) {
     model.settings.position_iterations = 0;
     model.settings.gyroscopic_rk4 = false;
     model.settings.sleep = false;
+    model.settings.articulated = false;
     time_steps(state, model);
 }
 
