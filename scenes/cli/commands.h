@@ -60,6 +60,9 @@ struct SceneOptions {
 // for a scene that is not a recording).
 int report_replay(const SceneDef& scene, int diverged_frame, int frames_reached);
 
+// "1 frame", "2 frames": n and the word, plural unless n is 1.
+std::string counted(long long n, const std::string& word);
+
 // "WIDTHxHEIGHT" within 16x16 .. 8192x8192 px.
 std::pair<int, int> parse_size(const std::string& text);
 // An off-screen backend this build has (render::backends(): osmesa where the

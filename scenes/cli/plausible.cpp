@@ -9,6 +9,7 @@
 #include "scenes/common/interrupt.h"
 #include "scenes/common/output_file.h"
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -19,9 +20,12 @@ namespace scenes::cli {
 Command add_list(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("list", "List the scenes with their descriptions");
     return {cmd, [] {
-                for (const std::string& name : catalog()) {
+                const std::vector<std::string> names = catalog();
+                int width = 0;  // the longest name, so that the descriptions line up
+                for (const std::string& name : names) width = std::max(width, static_cast<int>(name.size()));
+                for (const std::string& name : names) {
                     const SceneDef scene = load_scene(scenes_dir() / (name + ".toml"));
-                    std::printf("%-12s %s\n", name.c_str(), scene.description.c_str());
+                    std::printf("%-*s %s\n", width, name.c_str(), scene.description.c_str());
                 }
                 return kExitOk;
             }};

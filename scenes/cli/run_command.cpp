@@ -229,8 +229,9 @@ void print_text(const Summary& s) {
     const SceneDef& scene = s.scene;
     const sim::World& world = s.run.world();
     const std::string integrator(sim::integrator_info(scene.step.integrator).name);
-    std::printf("%s: %d frames of %s, dt %s x %d substeps, t = %.4g s\n", scene.name.c_str(), s.run.frame(),
-                integrator.c_str(), format_dt(scene.step.dt).c_str(), scene.step.substeps, s.run.time());
+    std::printf("%s: %s of %s, dt %s x %s, t = %.4g s\n", scene.name.c_str(), counted(s.run.frame(), "frame").c_str(),
+                integrator.c_str(), format_dt(scene.step.dt).c_str(), counted(scene.step.substeps, "substep").c_str(),
+                s.run.time());
     const double e0 = s.energy.initial;
     const double drift = e0 != 0.0 ? 100.0 * (s.final_energy - e0) / std::abs(e0) : 0.0;
     std::printf("  energy    initial %.6g J, final %.6g J (%+.3g%%), range [%.6g, %.6g] J\n", e0,
@@ -286,9 +287,9 @@ int run_scene(const RunArgs& args) {
         write_recording(*args.record, rec);
         char text[64];
         std::snprintf(text, sizeof text, "%.2f MiB", static_cast<double>(fs::file_size(*args.record)) / (1 << 20));
-        recorded = "recorded " + *args.record + ": " + std::to_string(rec.frames) + " frames, " +
-                   std::to_string(rec.states.size()) + " states (every " +
-                   (rec.every == 1 ? std::string("frame") : std::to_string(rec.every) + " frames") + "), " + text;
+        recorded = "recorded " + *args.record + ": " + counted(rec.frames, "frame") + ", " +
+                   counted(static_cast<long long>(rec.states.size()), "state") + " (every " +
+                   (rec.every == 1 ? std::string("frame") : counted(rec.every, "frame")) + "), " + text;
     }
     std::optional<RigidTotals> rigid_last;
     if (const sim::RigidWorld* rigid = run.world().rigid()) rigid_last.emplace(*rigid);
@@ -330,11 +331,9 @@ Command add_run(CLI::App& app) {
                     "video, view, check and run take it as a scene and replay it, reporting the first frame "
                     "whose state differs (exit 1)");
     run->add_flag("--json", args->json,
-                  "Print one JSON object. ms_per_step: the whole step (total) and each system, timed on a sample "
-                  "of frames (the second, then enough to keep the clocks under 1% of the frames' time; null "
-                  "for a run of one frame; springs on at most 4 particles are evaluated inside the particles' "
-                  "step and counted there; a step under a microsecond reads longer than it runs, the clock reads "
-                  "stopping its overlap with the next: bench_sim times those). With rigid bodies, rigid: their "
+                  "Print one JSON object: the scene, its step, the final state hash, energy, the watchdog's "
+                  "verdict, and ms_per_step, the step's time (total) and each system's, sampled on a few frames "
+                  "(null for a run of one frame). With rigid bodies, rigid: their "
                   "energy (J), momentum (kg m/s) and angular momentum about the origin (kg m2/s) at the first "
                   "and the last frame");
     return {run, [args] { return run_scene(*args); }};

@@ -48,6 +48,10 @@ int report_replay(const SceneDef& scene, int diverged_frame, int frames_reached)
     return kExitOk;
 }
 
+std::string counted(long long n, const std::string& word) {
+    return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
+}
+
 std::pair<int, int> parse_size(const std::string& text) {
     int w = 0, h = 0;
     char end = 0;

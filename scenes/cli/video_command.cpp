@@ -16,12 +16,14 @@ struct VideoArgs {
     SceneOptions scene;
     VideoOptions options;
     std::string out, size = "1280x720", compare, backend;
+    bool no_caption = false;
 };
 
 int video(VideoArgs& a) {
     const auto [w, h] = parse_size(a.size);
     a.options.width = w;
     a.options.height = h;
+    a.options.caption = !a.no_caption;
     a.options.output = a.out;
     // auto: write_video takes the fastest context, llvmpipe where a listed GPU cannot be used.
     if (a.backend != "auto") a.options.backend = parse_backend(a.backend);
@@ -30,8 +32,8 @@ int video(VideoArgs& a) {
     a.options.progress = progress_wanted();
     const SceneDef scene = a.scene.load();
     const VideoStats v = write_video(scene, a.scene.overrides(), a.options);
-    std::printf("video: %s (%d frames; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n",
-                a.out.c_str(), v.frames, v.physics_ms, v.render_ms, v.frames / v.seconds);
+    std::printf("video: %s (%s; per frame: physics %.2f ms, rendering %.1f ms; %.1f frames/s in all)\n", a.out.c_str(),
+                counted(v.frames, "frame").c_str(), v.physics_ms, v.render_ms, v.frames / v.seconds);
     std::printf("video: drawn by %s\n", v.renderer.c_str());
     if (a.options.verbose) {
         const render::Renderer::PassTimes& p = v.passes;
@@ -63,7 +65,7 @@ Command add_video(CLI::App& app) {
                     "Tiles side by side in lock step, comma-separated: integrators (forward_euler,symplectic_euler) "
                     "or --set variants (step.substeps=1,step.substeps=8)");
     add_backend_option(cmd, &args->backend, /*fastest=*/true);
-    cmd->add_flag("!--no-caption", args->options.caption, "No description across the bottom for the first seconds");
+    cmd->add_flag("--no-caption", args->no_caption, "No description across the bottom for the first seconds");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each frame pass by pass (shadow, opaque, impostors, overlays, MSAA resolve, read-back) and "
                   "the wait for the encoder, and print them (each pass then waits for the renderer: a little slower)");

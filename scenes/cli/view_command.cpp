@@ -88,7 +88,7 @@ Command add_view(CLI::App& app) {
     cmd->add_option("--screenshot", args->screenshot, "Save the window's last frame as this PNG on exit");
     cmd->add_option("--input", args->options.input,
                     "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
-                    "Right', '5 move @Scene parameters', '6 press left'; see scenes/view/input_script.h); the "
+                    "Right', '5 move @Scene parameters', '6 press left'; see README's viewer section); the "
                     "scene then steps once per drawn frame while running. A regular file of at most 16 MiB");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
