@@ -61,4 +61,12 @@ struct ShardInfo {
 void write_check_report(const std::filesystem::path& dir, const std::vector<SceneCheck>& scenes,
                         const ShardInfo& shard = {});
 
+// check --junit (check_junit.cpp): one testcase per scene, a failure or
+// error carrying the verdict line and the evidence's paths under `report`.
+std::string junit_xml(const std::vector<SceneCheck>& scenes, const ShardInfo& shard,
+                      const std::filesystem::path& report);
+// Writes it atomically (output_file.h); throws InputError naming the file.
+void write_junit(const std::filesystem::path& file, const std::vector<SceneCheck>& scenes, const ShardInfo& shard,
+                 const std::filesystem::path& report);
+
 }  // namespace scenes

@@ -5,7 +5,10 @@
 
 #include "render/renderer.h"
 #include "scenes/check/check.h"
+#include "scenes/check/check_report.h"
+#include "scenes/common/output_file.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +28,7 @@ struct CheckArgs {
     std::string backend;  // set by add_backend_option: render::default_backend()
     bool physics_only = false;
     std::string shard;  // "I/N"; empty: every scene
+    std::string junit;  // a JUnit XML file to write; empty: none
 };
 
 // "I/N" -> (I, N), each all digits and within an int (no wrap); the range
@@ -73,6 +77,7 @@ int check(const CheckArgs& a) {
                               "drop --backend, or write your own goldens with --golden DIR");
     }
     o.report_dir = a.report;
+    if (!a.junit.empty()) check_output(a.junit);  // a bad path is said before any scene runs
     if (!a.golden.empty()) {
         // A folder that is not there holds no goldens: say so once, not "no
         // golden" per scene. --update creates it.
@@ -96,13 +101,17 @@ int check(const CheckArgs& a) {
         results = check_scenes(names, overrides, o, renderer, context->fingerprint());
     }
     int passed = 0, failed = 0, errors = 0;
+    int width = 0;  // the longest scene name, so that the verdicts line up
+    for (const SceneCheck& c : results) width = std::max(width, static_cast<int>(c.scene.size()));
     for (const SceneCheck& c : results) {
         const bool ok = c.status == SceneCheck::Status::pass || c.status == SceneCheck::Status::updated;
         passed += ok ? 1 : 0;
         errors += c.status == SceneCheck::Status::error ? 1 : 0;
         failed += !ok && c.status != SceneCheck::Status::error ? 1 : 0;
-        std::printf("%-12s %-8s %s (%.1f s)\n", c.scene.c_str(), status_name(c.status), c.message.c_str(), c.seconds);
+        std::printf("%-*s %-8s %s (%.1f s)\n", width, c.scene.c_str(), status_name(c.status), c.message.c_str(),
+                    c.seconds);
     }
+    if (!a.junit.empty()) write_junit(a.junit, results, o.shard, a.report);
     if (o.shard.count > 0) {
         std::printf("shard %d of %d: %zu of the %d scenes\n", o.shard.index, o.shard.count, results.size(), o.shard.of);
     }
@@ -129,6 +138,9 @@ Command add_check(CLI::App& app) {
     cmd->add_option("--shard", args->shard,
                     "Check only the I-th of N equal parts of the scenes, I/N (e.g. 2/4: a CI matrix of 4 machines); "
                     "the report covers that part alone");
+    cmd->add_option("--junit", args->junit,
+                    "Also write the check as JUnit XML to this file: one testcase per scene, a failure carrying the "
+                    "verdict line and the paths of its evidence");
     cmd->add_flag("--physics-only", args->physics_only,
                   "Compare state hashes only: nothing rendered, no GL (fast; e.g. under an emulated CPU)");
     return {cmd, [args] { return check(*args); }};
