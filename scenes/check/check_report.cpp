@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -114,6 +115,8 @@ tr.differs td { background: #fde2e2; }
 .images img { max-width: 100%; image-rendering: pixelated; border: 1px solid #ccc; margin: 4px 0; }
 .flicker { cursor: pointer; }
 .hint { font-size: 12px; color: #666; }
+table.summary td { vertical-align: middle; } table.summary img { height: 48px; border: 1px solid #ccc; }
+td.pass, td.updated { color: #2e9d48; } td.fail, td.exploded, td.error { color: #d33; } td.missing { color: #e0a000; }
 )";
 
 // Clicking a flicker image swaps it between expected and actual.
@@ -128,7 +131,7 @@ document.querySelectorAll('img.flicker').forEach(function (img) {
 });
 )";
 
-std::string scene_html(const SceneCheck& c, const fs::path& dir) {
+std::string scene_html(const SceneCheck& c) {
     std::ostringstream h;
     h << "<div class=\"scene " << status_name(c.status) << "\" id=\"" << escape(c.scene) << "\">\n<h2>"
       << escape(c.scene) << "<span class=\"status\">" << status_name(c.status)
@@ -137,8 +140,8 @@ std::string scene_html(const SceneCheck& c, const fs::path& dir) {
     if (!c.actual_recording.empty()) {
         h << "<div>The actual run is kept as a recording, <a href=\"" << escape(c.actual_recording) << "\">"
           << escape(c.actual_recording) << "</a>: step and scrub through it frame by frame with <code>plausible view "
-          << escape((dir / c.actual_recording).string())
-          << "</code> (a CI job's artifact: from where you unpacked it), "
+          << escape(c.actual_recording)
+          << "</code>, run in this report's folder (a CI job's artifact: where you unpacked it), "
           << "or replay it with <code>plausible run</code> or <code>render</code>.</div>\n";
     }
     if (c.changed_frame >= 0) {
@@ -187,6 +190,46 @@ std::string scene_html(const SceneCheck& c, const fs::path& dir) {
         h << "</div>\n";
     }
     h << "</div>\n";
+    return h.str();
+}
+
+// A share of the pixels as a percentage, "0.0123%".
+std::string fmt_share(double share) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g%%", 100.0 * share);
+    return text;
+}
+
+// One row a scene, failures first: its verdict, where the physics changed,
+// its largest pixel error and a thumbnail; a scene with a card links to it.
+std::string summary_html(const std::vector<const SceneCheck*>& order) {
+    std::ostringstream h;
+    h << "<table class=\"summary\"><tr><th>scene</th><th>verdict</th><th>physics changed at</th>"
+         "<th>largest pixel error</th><th>actual</th></tr>\n";
+    for (const SceneCheck* c : order) {
+        const std::string name = escape(c->scene);
+        h << "<tr><td>" << (c->status == SceneCheck::Status::pass ? name : "<a href=\"#" + name + "\">" + name + "</a>")
+          << "</td><td class=\"" << status_name(c->status) << "\">" << status_name(c->status) << "</td><td>";
+        if (c->changed_frame >= 0) {
+            h << "frame " << c->changed_frame;
+            if (c->changed_substep >= 0) h << ", substep " << c->changed_substep + 1 << " of " << c->substeps;
+        } else {
+            const bool same = !c->hashes.empty() && c->first_hash_mismatch < 0;
+            h << (same ? "identical" : "-");
+        }
+        h << "</td><td>";
+        if (!c->image) {
+            h << "-";
+        } else if (c->image->identical) {
+            h << "identical";
+        } else {
+            h << escape(fmt_share(c->image->large_share)) << " of pixels large, max d " << c->image->max_d;
+        }
+        h << "</td><td>";
+        if (!c->actual_png.empty()) h << "<img src=\"" << escape(c->actual_png) << "\" alt=\"actual\">";
+        h << "</td></tr>\n";
+    }
+    h << "</table>\n";
     return h.str();
 }
 
@@ -239,7 +282,10 @@ void write_check_report(const fs::path& dir, const std::vector<SceneCheck>& scen
         html << "<span>" << status_name(s) << ": " << counts[static_cast<int>(s)] << "</span>";
     }
     html << "</div>\n";
-    for (const SceneCheck* c : order) html << scene_html(*c, dir);
+    html << summary_html(order);
+    for (const SceneCheck* c : order) {
+        if (c->status != SceneCheck::Status::pass) html << scene_html(*c);
+    }
     html << "<script>" << kScript << "</script>\n</body></html>\n";
     write_output(dir / "report.json", report.dump(2) + "\n");
     write_output(dir / "index.html", html.str());

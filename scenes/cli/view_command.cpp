@@ -15,6 +15,7 @@ struct ViewArgs {
     SceneOptions scene;
     ViewOptions options;
     std::string size = "1280x720", screenshot;
+    bool no_panel = false;
 };
 
 // --verbose: a running frame part by part, the renderer pass by pass.
@@ -40,6 +41,7 @@ void print_spread(const FrameSpread& s) {
 
 int view(ViewArgs& a) {
     const auto [w, h] = parse_size(a.size);
+    a.options.panel = !a.no_panel;
     a.options.width = w;
     a.options.height = h;
     a.options.screenshot = a.screenshot;
@@ -81,14 +83,14 @@ Command add_view(CLI::App& app) {
                     "frame by frame to keep a frame within 25 ms (still frames are drawn whole, and so are "
                     "--exit-after's)")
         ->capture_default_str();
-    cmd->add_flag("!--no-panel", args->options.panel, "Hide the control panel (H shows it)");
+    cmd->add_flag("--no-panel", args->no_panel, "Hide the control panel (H shows it)");
     cmd->add_flag("--paused", args->options.paused, "Start paused (Space resumes, Right steps)");
     cmd->add_option("--exit-after", args->options.exit_after,
                     "Show N frames, one scene step each (no wall clock), then exit");
     cmd->add_option("--screenshot", args->screenshot, "Save the window's last frame as this PNG on exit");
     cmd->add_option("--input", args->options.input,
                     "Play this script of key, text and mouse events, each at a drawn frame (lines like '3 key "
-                    "Right', '5 move @Scene parameters', '6 press left'; see README's viewer section); the "
+                    "Right', '5 move @Scene parameters', '6 press left'; see docs/commands.md); the "
                     "scene then steps once per drawn frame while running. A regular file of at most 16 MiB");
     cmd->add_flag("--verbose", args->options.verbose,
                   "Time each running frame part by part (physics, draw list, each render pass, blit, panel, swap) "
