@@ -7,6 +7,7 @@
 // two solvers (report_rigid_peers.cpp). Private to scenes/report.
 #pragma once
 
+#include "sim/analytic.h"
 #include "sim/vec3_array.h"
 
 #include <Eigen/Geometry>
@@ -22,17 +23,6 @@ namespace scenes::report {
 
 inline constexpr double kRigidG = 9.81;  // m/s², straight down (-y)
 
-// The complete elliptic integral of the first kind, K(k) = π / (2 AGM(1, √(1 - k²))).
-inline double elliptic_k(double k) {
-    double a = 1.0, b = std::sqrt(1.0 - k * k);
-    for (int i = 0; i < 30; ++i) {
-        const double next = 0.5 * (a + b);
-        b = std::sqrt(a * b);
-        a = next;
-    }
-    return std::numbers::pi / (2.0 * a);
-}
-
 // A 1 kg box rod 0.1 x 1.0 x 0.1 m hinged about z at its top end (the
 // origin), released from rest at θ0 = 90° from hanging straight down.
 struct RigidPendulum {
@@ -41,9 +31,9 @@ struct RigidPendulum {
     static constexpr double theta0 = std::numbers::pi / 2.0;     // rad
     static constexpr double inertia = m * (length * length + width * width) / 12.0 + m * d * d;  // kg·m², at the hinge
     // T = 4 √(I / m g d) K(sin(θ0 / 2)), s.
-    static double period() { return 4.0 * std::sqrt(inertia / (m * kRigidG * d)) * elliptic_k(std::sin(0.5 * theta0)); }
-    static double swing_energy() { return m * kRigidG * d * (1.0 - std::cos(theta0)); }            // J
-    static sim::Vec3 center() { return d * sim::Vec3(std::sin(theta0), -std::cos(theta0), 0.0); }  // m
+    static double period() { return sim::analytic::pendulum_period(inertia / (m * d), kRigidG, theta0); }  // s
+    static double swing_energy() { return m * kRigidG * d * (1.0 - std::cos(theta0)); }                    // J
+    static sim::Vec3 center() { return d * sim::Vec3(std::sin(theta0), -std::cos(theta0), 0.0); }          // m
     static Eigen::Quaterniond orientation() {
         return Eigen::Quaterniond(Eigen::AngleAxisd(theta0, sim::Vec3::UnitZ()));
     }

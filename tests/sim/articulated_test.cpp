@@ -8,6 +8,8 @@
 
 #include "sim/error.h"
 
+#include "tests/sim/hinged_rod.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -45,17 +47,6 @@ double energy(const std::vector<ArticulatedLink>& links, const std::vector<LinkS
 Eigen::Matrix3d box_inertia(double m, const Vec3& size) {  // kg·m², about the centre, box of full extents `size`
     const Vec3 s2 = size.cwiseProduct(size);
     return Vec3(m * (s2.y() + s2.z()) / 12.0, m * (s2.x() + s2.z()) / 12.0, m * (s2.x() + s2.y()) / 12.0).asDiagonal();
-}
-
-// The complete elliptic integral of the first kind, K(k) = π / (2 AGM(1, √(1 - k²))).
-double elliptic_k(double k) {
-    double a = 1.0, b = std::sqrt(1.0 - k * k);
-    for (int i = 0; i < 30; ++i) {
-        const double next = 0.5 * (a + b);
-        b = std::sqrt(a * b);
-        a = next;
-    }
-    return kPi / (2.0 * a);
 }
 
 // --- The heavy symmetric top -------------------------------------------------
@@ -145,17 +136,6 @@ TEST(Articulated, AHeavyTopPrecessesSteadilyAtItsRate) {
 }
 
 // --- The hinged rod ------------------------------------------------------------
-
-// A 1 kg box rod 0.1 x 1.0 x 0.1 m hinged about z at its top end (the origin),
-// released from rest at θ0 from hanging straight down: T = 4 √(I / m g d) K(sin(θ0 / 2)).
-struct Rod {
-    static constexpr double m = 1.0, length = 1.0, width = 0.1;  // kg, m, m
-    static constexpr double d = 0.5;                             // m, hinge to centre of mass
-    static constexpr double inertia = m * (length * length + width * width) / 12.0 + m * d * d;  // kg·m², at the hinge
-    static double period(double theta0) {
-        return 4.0 * std::sqrt(inertia / (m * kG * d)) * elliptic_k(std::sin(0.5 * theta0));
-    }
-};
 
 struct Swing {
     double period = 0.0;  // s, from the first to the third crossing of the vertical

@@ -10,6 +10,8 @@
 // docs/studies/rigid-closed-forms.md.
 #include "sim/rigid.h"
 
+#include "tests/sim/hinged_rod.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,10 +26,6 @@ namespace {
 constexpr double kG = 9.81;  // m/s²
 constexpr double kPi = std::numbers::pi;
 
-void report(const char* what, double h, double value, const char* unit) {
-    std::printf("[ measured ] %s at h = 1/%.0f s: %.4g %s\n", what, 1.0 / h, value, unit);
-}
-
 // The complete elliptic integral of the first kind, K(k) = π / (2 AGM(1, √(1 - k²))).
 double elliptic_k(double k) {
     double a = 1.0, b = std::sqrt(1.0 - k * k);
@@ -39,18 +37,9 @@ double elliptic_k(double k) {
     return kPi / (2.0 * a);
 }
 
-// A 1 kg box rod 0.1 x 1.0 x 0.1 m hinged about z at its top end (the
-// origin), released from rest at theta0 from hanging straight down.
-struct Rod {
-    static constexpr double m = 1.0, length = 1.0, width = 0.1;  // kg, m, m
-    static constexpr double d = 0.5;                             // m, hinge to centre of mass
-    static constexpr double inertia = m * (length * length + width * width) / 12.0 + m * d * d;  // kg·m², at the hinge
-    static double small_period() { return 2.0 * kPi * std::sqrt(inertia / (m * kG * d)); }
-    // T = 4 √(I / m g d) K(sin(θ0 / 2)).
-    static double period(double theta0) {
-        return 4.0 * std::sqrt(inertia / (m * kG * d)) * elliptic_k(std::sin(0.5 * theta0));
-    }
-};
+void report(const char* what, double h, double value, const char* unit) {
+    std::printf("[ measured ] %s at h = 1/%.0f s: %.4g %s\n", what, 1.0 / h, value, unit);
+}
 
 struct Swing {
     double period = 0.0;  // s, from the first to the third crossing of the vertical
