@@ -1,7 +1,9 @@
 """docs/commands.md against the command: every flag that a subcommand's
 --help lists must appear, in backticks, in that subcommand's section of the
 page (the lines from its `## plausible NAME` heading to the next `## `).
---help itself is left out. Fails naming each missing flag and its subcommand.
+--help itself is left out. Fails naming each missing flag and its subcommand,
+and each --help that does not state the exit codes (issue 56: help that tells
+the truth).
 Usage: commands_doc_test.py PLAUSIBLE DOCS_COMMANDS_MD
 """
 import re
@@ -11,8 +13,14 @@ import sys
 SUBCOMMANDS = ("list", "run", "render", "check", "report", "video", "view")
 
 
-def flags_of(exe, cmd):
-    out = subprocess.run([exe, cmd, "--help"], capture_output=True, text=True, check=True).stdout
+def help_of(exe, cmd):
+    return subprocess.run([exe, cmd, "--help"], capture_output=True, text=True, check=True).stdout
+
+
+EXIT_CODES = ("Exit codes: 0 ", "; 1 ", "; 2 bad input", "130 or 143")
+
+
+def flags_of(out):
     options = out.split("Options:", 1)[1] if "Options:" in out else ""
     # An option line starts with spaces, then -x, or --name (CLI11's layout).
     found = []
@@ -46,7 +54,10 @@ def main():
         if cmd not in sections:
             missing.append(f"{cmd}: no '## plausible {cmd}' section")
             continue
-        for flag in flags_of(exe, cmd):
+        out = help_of(exe, cmd)
+        if not all(part in out for part in EXIT_CODES):
+            missing.append(f"{cmd}: --help does not state the exit codes (0, 1, 2, 130 or 143)")
+        for flag in flags_of(out):
             counted += 1
             # `--flag` or `--flag VALUE`, `--flag=...` inside backticks.
             if not re.search(r"`" + re.escape(flag) + r"(?![A-Za-z0-9-])[^`]*`", sections[cmd]):
